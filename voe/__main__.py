@@ -1,0 +1,3 @@
+from voe.cli.main import main
+
+main()

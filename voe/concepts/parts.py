@@ -1,0 +1,55 @@
+"""Building blocks shared by concepts: floor, screens, objects on the floor, onset picking.
+
+Why: every concept stages its event on the same stage (a floor, screens in front, objects of a
+few shapes), so the stage is built here once and concept files only describe their event.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from voe.sim.rollout import Recording
+from voe.sim.scene import Body, Occluder, Segment
+
+FLOOR_Y = 0.6  # top surface of the floor
+FLOOR = Segment((-20.0, FLOOR_Y - 0.1), (30.0, FLOOR_Y - 0.1), 0.1, 0.0, 0.5, "floor")
+
+
+def floor(friction: float = 0.0, elasticity: float = 0.5) -> Segment:
+    """The ground, wider than the window so objects can leave it."""
+    return Segment(FLOOR.a, FLOOR.b, FLOOR.radius, friction, elasticity, "floor")
+
+
+def screen(cx: float, width: float, height: float, bottom: float = FLOOR_Y - 0.3) -> Occluder:
+    """A screen standing on the floor, centred at ``cx``."""
+    return Occluder(cx - width / 2, bottom, cx + width / 2, bottom + height)
+
+
+def on_floor(look: dict[str, Any], slot: int, x: float, vx: float = 0.0, **kw: Any) -> Body:
+    """A body resting on the floor at ``x``; it slides without rotating (frictionless floor)."""
+    return Body(slot=slot, shape=look["shape"], width=look["width"], height=look["height"],
+                x=x, y=FLOOR_Y + look["height"] / 2, vx=vx, intensity=look["intensity"],
+                friction=kw.pop("friction", 0.0), elasticity=kw.pop("elasticity", 0.3), **kw)
+
+
+def hidden_frames(rec: Recording, slot: int) -> np.ndarray:
+    """Frames where the object exists but is not visible (behind a screen or out of view)."""
+    return np.flatnonzero(rec.exists[:, slot] & ~rec.present[:, slot])
+
+
+def visible_frames(rec: Recording, slot: int) -> np.ndarray:
+    return np.flatnonzero(rec.present[:, slot])
+
+
+def pick(frames: np.ndarray, u: float, lo: int, hi: int, what: str) -> int:
+    """Pick one of ``frames`` within ``[lo, hi)`` using the uniform number ``u``.
+
+    Raises:
+        ValueError: no candidate frame; the concept's parameter ranges are inconsistent.
+    """
+    cand = frames[(frames >= lo) & (frames < hi)]
+    if cand.size == 0:
+        raise ValueError(f"no candidate frame for {what} in [{lo}, {hi})")
+    return int(cand[min(int(u * cand.size), cand.size - 1)])

@@ -1,0 +1,53 @@
+"""Permanence: objects do not vanish or appear from nowhere.
+
+Possible A: an object slides across the floor, behind a screen and out again. Possible B: the
+same scene without the object. Impossible AB / BA splice A and B from the onset on, so the
+object vanishes (AB) or appears from nowhere (BA). Occluded variant: the onset falls while the
+object is behind the screen, so AB's object never comes out and BA's comes out of an empty
+screen. Visible variant: the onset falls while the object is in plain view.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from voe.concepts.base import Concept, Context
+from voe.concepts.parts import floor, hidden_frames, on_floor, pick, screen, visible_frames
+from voe.sim.rollout import Recording, simulate
+
+
+class Permanence(Concept):
+    name = "permanence"
+    version = 1
+    kind = "quadruplet"
+
+    def _sample(self, rng: np.random.Generator, ctx: Context) -> dict[str, Any]:
+        r = self.ranges
+        look = self.random_look(rng)
+        sx = self.uniform(rng, r["screen_x"])
+        width = look["width"] + self.uniform(rng, r["screen_margin"])
+        speed = self.uniform(rng, r["speed"])
+        direction = 1 if rng.random() < 0.5 else -1
+        # start so that the object reaches the screen's near edge after 0.35..0.5 of the clip
+        t_reach = self.uniform(rng, [0.35, 0.5]) * ctx.cfg.n_frames * ctx.cfg.dt
+        x0 = sx - direction * (width / 2 + look["width"] / 2 + speed * t_reach)
+        return {"look": look, "screen_x": sx, "screen_width": width,
+                "screen_height": look["height"] + 0.9, "speed": speed, "direction": direction,
+                "x0": x0, "u_onset": float(rng.random())}
+
+    def _possible_pair(self, p: dict[str, Any], ctx: Context) -> tuple[Recording, Recording, np.ndarray]:
+        slot = ctx.slots[0]
+        obj = on_floor(p["look"], slot, p["x0"], p["direction"] * p["speed"])
+        occ = [screen(p["screen_x"], p["screen_width"], p["screen_height"])]
+        a = simulate(self.scene(ctx, [obj], [floor()], occ), ctx.cfg)
+        b = simulate(self.scene(ctx, [], [floor()], occ), ctx.cfg)
+        T = ctx.cfg.n_frames
+        if ctx.visible:
+            onset = pick(visible_frames(a, slot), p["u_onset"], 4, T - 4, "visible vanishing")
+        else:
+            hid = hidden_frames(a, slot)
+            onset = pick(hid, p["u_onset"], 2, T - 2, "occluded vanishing")
+        mask = np.arange(T) >= onset
+        return a, b, mask

@@ -1,0 +1,196 @@
+"""The template every candidate effect follows, and the ``+`` that combines effects.
+
+Why: the finder treats every hypothesis the same way (fit its parameters, simulate, compare), so
+an effect is a small parametric plug-in to the simulator. Following pysindy's feature libraries,
+the public methods (``forces``, ``materials``) check the parameter vector and the subclass fills
+one private hook (``_forces`` or ``_materials``). ``a + b`` gives an ``EffectSum`` whose parameter
+vector is the concatenation of its parts, so ``quadratic_drag + restitution`` is one candidate.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from voe.sim.scenefile import Materials, SceneSpec, SimState
+
+
+@dataclass(frozen=True)
+class FitContext:
+    """What an effect may know about the problem when proposing starting points and scales.
+
+    Attributes:
+        scene: the nominal scene.
+        lo, hi: (2,) corners of the box the recorded bodies move in.
+        speed: typical recorded speed in m/s.
+        omega: typical recorded angular speed in rad/s.
+    """
+
+    scene: SceneSpec
+    lo: np.ndarray
+    hi: np.ndarray
+    speed: float
+    omega: float
+
+
+class Effect:
+    """Base class of a candidate effect.
+
+    Subclasses set ``name``, ``param_names``, ``units`` and ``contexts`` (the located contexts in
+    which the effect is the natural explanation, used to break ties between effects the data
+    cannot tell apart) and implement ``_forces`` and/or ``_materials`` plus ``starts``/``scale``.
+    """
+
+    name: ClassVar[str] = "effect"
+    param_names: ClassVar[tuple[str, ...]] = ()
+    units: ClassVar[tuple[str, ...]] = ()
+    contexts: ClassVar[tuple[str, ...]] = ()
+    summary: ClassVar[str] = ""
+
+    def __init__(self, bodies: tuple[str, ...] | None = None) -> None:
+        self.bodies = tuple(bodies) if bodies else None
+
+    # --- parameter bookkeeping -------------------------------------------------------------
+    @property
+    def n_params(self) -> int:
+        return len(self.param_names)
+
+    @property
+    def parts(self) -> tuple[Effect, ...]:
+        return (self,)
+
+    def check(self, params: np.ndarray) -> np.ndarray:
+        """Return ``params`` as a float vector of the right length, or raise ValueError."""
+        p = np.asarray(params, dtype=float).reshape(-1)
+        if p.shape != (self.n_params,):
+            raise ValueError(f"{self.name} takes {self.n_params} parameters {self.param_names}, got {p.shape[0]}")
+        if not np.all(np.isfinite(p)):
+            raise ValueError(f"{self.name} parameters must be finite, got {p}")
+        return p
+
+    def mask(self, scene: SceneSpec) -> np.ndarray:
+        """(B,) bool: the bodies this effect acts on."""
+        if self.bodies is None:
+            return np.ones(len(scene.bodies), dtype=bool)
+        return np.array([b.name in self.bodies for b in scene.bodies])
+
+    def starts(self, ctx: FitContext) -> list[np.ndarray]:
+        """Starting points for the fit (several for effects with a position parameter)."""
+        return [np.zeros(self.n_params)]
+
+    def scale(self, ctx: FitContext) -> np.ndarray:
+        """(P,) typical parameter magnitudes, for finite differences and ``x_scale``."""
+        return np.ones(self.n_params)
+
+    def bounds(self, ctx: FitContext) -> tuple[np.ndarray, np.ndarray]:
+        """Lower and upper bounds, (P,) each."""
+        return np.full(self.n_params, -np.inf), np.full(self.n_params, np.inf)
+
+    # --- simulation hooks ------------------------------------------------------------------
+    def forces(self, state: SimState, params: np.ndarray, scene: SceneSpec) -> tuple[np.ndarray, np.ndarray]:
+        """Extra force (B, 2) in N and torque (B,) in N m on every body at ``state``."""
+        p = self.check(params)
+        f, tau = self._forces(state, p)
+        m = self.mask(scene)
+        return f * m[:, None], tau * m
+
+    def materials(self, params: np.ndarray, scene: SceneSpec) -> Materials:
+        """Material and mass overrides implied by ``params``."""
+        return self._materials(self.check(params), scene)
+
+    @property
+    def has_forces(self) -> bool:
+        return type(self)._forces is not Effect._forces
+
+    def _forces(self, state: SimState, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        return np.zeros_like(state.pos), np.zeros_like(state.angle)
+
+    def _materials(self, p: np.ndarray, scene: SceneSpec) -> Materials:
+        return Materials()
+
+    def describe(self, params: np.ndarray) -> str:
+        """Parameters in words with units, for the explanation."""
+        p = self.check(params)
+        return ", ".join(f"{n} = {v:.4g} {u}".strip() for n, v, u in zip(self.param_names, p, self.units, strict=True))
+
+    def __add__(self, other: Effect) -> EffectSum:
+        return EffectSum(self.parts + other.parts)
+
+    def __repr__(self) -> str:
+        return self.name if self.bodies is None else f"{self.name}[{','.join(self.bodies)}]"
+
+
+class EffectSum(Effect):
+    """Several effects acting together; parameters are concatenated in order."""
+
+    name = "sum"
+
+    def __init__(self, parts: tuple[Effect, ...]) -> None:
+        super().__init__(None)
+        self._parts = tuple(parts)
+        self.param_names = tuple(f"{e.name}.{n}" for e in self._parts for n in e.param_names)  # type: ignore[misc]
+
+    @property
+    def parts(self) -> tuple[Effect, ...]:
+        return self._parts
+
+    @property
+    def has_forces(self) -> bool:
+        return any(e.has_forces for e in self._parts)
+
+    def split(self, params: np.ndarray) -> list[np.ndarray]:
+        """Cut the concatenated vector into one vector per part."""
+        p, out, i = self.check(params), [], 0
+        for e in self._parts:
+            out.append(p[i:i + e.n_params])
+            i += e.n_params
+        return out
+
+    def forces(self, state: SimState, params: np.ndarray, scene: SceneSpec) -> tuple[np.ndarray, np.ndarray]:
+        f, tau = np.zeros_like(state.pos), np.zeros_like(state.angle)
+        for e, p in zip(self._parts, self.split(params), strict=True):
+            if e.has_forces:
+                fe, te = e.forces(state, p, scene)
+                f, tau = f + fe, tau + te
+        return f, tau
+
+    def materials(self, params: np.ndarray, scene: SceneSpec) -> Materials:
+        fr, el, ms = [None] * len(scene.bodies), [None] * len(scene.bodies), np.ones(len(scene.bodies))
+        for e, p in zip(self._parts, self.split(params), strict=True):
+            m = e.materials(p, scene)
+            for i in range(len(scene.bodies)):
+                if m.friction and m.friction[i] is not None:
+                    fr[i] = m.friction[i]
+                if m.elasticity and m.elasticity[i] is not None:
+                    el[i] = m.elasticity[i]
+            if m.mass_scale:
+                ms = ms * np.asarray(m.mass_scale)
+        return Materials(tuple(fr), tuple(el), tuple(float(x) for x in ms))
+
+    def starts(self, ctx: FitContext) -> list[np.ndarray]:
+        out = [np.zeros(0)]
+        for e in self._parts:
+            out = [np.concatenate([a, b]) for a in out for b in e.starts(ctx)]
+        return out
+
+    def scale(self, ctx: FitContext) -> np.ndarray:
+        return np.concatenate([e.scale(ctx) for e in self._parts]) if self._parts else np.zeros(0)
+
+    def bounds(self, ctx: FitContext) -> tuple[np.ndarray, np.ndarray]:
+        b = [e.bounds(ctx) for e in self._parts]
+        if not b:
+            return np.zeros(0), np.zeros(0)
+        return np.concatenate([x[0] for x in b]), np.concatenate([x[1] for x in b])
+
+    def describe(self, params: np.ndarray) -> str:
+        return "; ".join(f"{e.name}: {e.describe(p)}" for e, p in zip(self._parts, self.split(params), strict=True))
+
+    def __repr__(self) -> str:
+        return " + ".join(repr(e) for e in self._parts) or "none"
+
+
+def body_mask(values: np.ndarray, mask: np.ndarray, fill: float | None) -> tuple[float | None, ...]:
+    """Per-body tuple with ``values`` where ``mask`` and ``fill`` elsewhere."""
+    return tuple(float(v) if m else fill for v, m in zip(values, mask, strict=True))

@@ -1,0 +1,33 @@
+"""Wrong sliding friction: the bodies' friction coefficient is a free parameter (pymunk
+multiplies it with the friction of the surface).
+
+Why: sliding distances and spin-up after a bounce are set by Coulomb friction, which nominal
+scenes often guess.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from voe.gap.effects.base import Effect, FitContext, body_mask
+from voe.sim.scenefile import Materials, SceneSpec
+
+
+class Friction(Effect):
+    name = "friction"
+    param_names = ("friction",)
+    units = ("",)
+    contexts = ("sliding",)
+    summary = "sliding contacts have a different friction coefficient than the scene says"
+
+    def _materials(self, p: np.ndarray, scene: SceneSpec) -> Materials:
+        return Materials(friction=body_mask(np.full(len(scene.bodies), p[0]), self.mask(scene), None))
+
+    def starts(self, ctx: FitContext) -> list[np.ndarray]:
+        return [np.array([float(np.mean([b.friction for b in ctx.scene.bodies]))])]
+
+    def scale(self, ctx: FitContext) -> np.ndarray:
+        return np.array([0.1])
+
+    def bounds(self, ctx: FitContext) -> tuple[np.ndarray, np.ndarray]:
+        return np.array([0.0]), np.array([3.0])

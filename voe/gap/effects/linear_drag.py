@@ -1,0 +1,32 @@
+"""Linear (viscous, Stokes) drag: F = -c m v.
+
+Why a per-mass coefficient: with gravity alone a body's mass does not enter its trajectory, so
+only the deceleration per unit speed, c in 1/s, can be identified from poses.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from voe.gap.effects.base import Effect, FitContext
+from voe.sim.scenefile import SimState
+
+
+class LinearDrag(Effect):
+    name = "linear_drag"
+    param_names = ("c",)
+    units = ("1/s",)
+    contexts = ("flight",)
+    summary = "bodies decelerate in proportion to their speed (linear, viscous drag)"
+
+    def _forces(self, state: SimState, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        return -p[0] * state.mass[:, None] * state.vel, np.zeros_like(state.angle)
+
+    def starts(self, ctx: FitContext) -> list[np.ndarray]:
+        return [np.array([0.01 / max(ctx.speed, 0.1)])]
+
+    def scale(self, ctx: FitContext) -> np.ndarray:
+        return np.array([0.1])
+
+    def bounds(self, ctx: FitContext) -> tuple[np.ndarray, np.ndarray]:
+        return np.array([0.0]), np.array([50.0])

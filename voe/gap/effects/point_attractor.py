@@ -1,0 +1,42 @@
+"""An attracting point of unknown position and strength: a = k (p - r) / (|p - r|^2 + s^2)^(3/2).
+
+Why: a hidden magnet or a local dip pulls bodies toward a place. The inverse-square law is
+softened over s = 0.1 m so the fit stays smooth when a body passes close to the point. The
+position enters nonlinearly, so the fit starts from a 3 x 3 grid over the recorded region.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from voe.gap.effects.base import Effect, FitContext
+from voe.sim.scenefile import SimState
+
+_SOFT = 0.1  # m
+
+
+class PointAttractor(Effect):
+    name = "point_attractor"
+    param_names = ("k", "px", "py")
+    units = ("m^3/s^2", "m", "m")
+    contexts = ("region",)
+    summary = "bodies are pulled toward a point (a hidden attractor)"
+
+    def _forces(self, state: SimState, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        d = p[None, 1:3] - state.pos  # (B, 2)
+        r2 = np.sum(d**2, axis=1, keepdims=True) + _SOFT**2
+        return state.mass[:, None] * p[0] * d / r2**1.5, np.zeros_like(state.angle)
+
+    def starts(self, ctx: FitContext) -> list[np.ndarray]:
+        xs = np.linspace(ctx.lo[0], ctx.hi[0], 3)
+        ys = np.linspace(ctx.lo[1], ctx.hi[1], 3)
+        return [np.array([0.2, x, y]) for x in xs for y in ys]
+
+    def scale(self, ctx: FitContext) -> np.ndarray:
+        size = float(np.max(ctx.hi - ctx.lo))
+        return np.array([0.5, 0.2 * size, 0.2 * size])
+
+    def bounds(self, ctx: FitContext) -> tuple[np.ndarray, np.ndarray]:
+        span = ctx.hi - ctx.lo + 1.0
+        return (np.array([0.0, ctx.lo[0] - span[0], ctx.lo[1] - span[1]]),
+                np.array([100.0, ctx.hi[0] + span[0], ctx.hi[1] + span[1]]))

@@ -1,0 +1,32 @@
+"""Quadratic (air) drag: F = -c m |v| v, with c in 1/m.
+
+Why: at everyday speeds air drag grows with the square of the speed; c = rho Cd A / (2 m).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from voe.gap.effects.base import Effect, FitContext
+from voe.sim.scenefile import SimState
+
+
+class QuadraticDrag(Effect):
+    name = "quadratic_drag"
+    param_names = ("c",)
+    units = ("1/m",)
+    contexts = ("flight",)
+    summary = "bodies decelerate in proportion to speed squared (quadratic air drag)"
+
+    def _forces(self, state: SimState, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        speed = np.linalg.norm(state.vel, axis=1, keepdims=True)  # (B, 1)
+        return -p[0] * state.mass[:, None] * speed * state.vel, np.zeros_like(state.angle)
+
+    def starts(self, ctx: FitContext) -> list[np.ndarray]:
+        return [np.array([0.01 / max(ctx.speed, 0.1) ** 2])]
+
+    def scale(self, ctx: FitContext) -> np.ndarray:
+        return np.array([0.1 / max(ctx.speed, 0.3)])
+
+    def bounds(self, ctx: FitContext) -> tuple[np.ndarray, np.ndarray]:
+        return np.array([0.0]), np.array([50.0])

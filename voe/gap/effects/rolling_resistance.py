@@ -1,0 +1,39 @@
+"""Rolling resistance: while touching something, a force c m |g| against the motion.
+
+Why: a ball rolling on a real table slows down at a nearly constant rate (deformation of the ball
+and the surface), which a rigid-body contact does not produce. The direction is smoothed below
+1 cm/s so the force vanishes at rest instead of chattering.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from voe.gap.effects.base import Effect, FitContext
+from voe.sim.scenefile import SimState
+
+_V0 = 0.01  # m/s, smoothing speed of the direction
+
+
+class RollingResistance(Effect):
+    name = "rolling_resistance"
+    param_names = ("c_rr",)
+    units = ("",)
+    contexts = ("rolling",)
+    summary = "bodies in contact slow down at a constant rate (rolling resistance)"
+
+    def _forces(self, state: SimState, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        touching = state.contact().astype(float)  # (B,)
+        speed = np.linalg.norm(state.vel, axis=1, keepdims=True)  # (B, 1)
+        g = float(np.linalg.norm(state.gravity))
+        f = -p[0] * g * (state.mass * touching)[:, None] * state.vel / np.sqrt(speed**2 + _V0**2)
+        return f, np.zeros_like(state.angle)
+
+    def starts(self, ctx: FitContext) -> list[np.ndarray]:
+        return [np.array([0.001])]
+
+    def scale(self, ctx: FitContext) -> np.ndarray:
+        return np.array([0.02])
+
+    def bounds(self, ctx: FitContext) -> tuple[np.ndarray, np.ndarray]:
+        return np.array([0.0]), np.array([1.0])

@@ -1,0 +1,37 @@
+"""A linear spring to an unknown anchor point: a = -k (r - p), k in 1/s^2.
+
+Why: a tether, elastic cord or restoring field pulls harder the further a body goes; unlike the
+point attractor the pull grows with distance. Starts from a 3 x 3 grid of anchors.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from voe.gap.effects.base import Effect, FitContext
+from voe.sim.scenefile import SimState
+
+
+class SpringAnchor(Effect):
+    name = "spring_anchor"
+    param_names = ("k", "px", "py")
+    units = ("1/s^2", "m", "m")
+    contexts = ("region",)
+    summary = "bodies are pulled back toward an anchor in proportion to distance (a spring)"
+
+    def _forces(self, state: SimState, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        return -p[0] * state.mass[:, None] * (state.pos - p[None, 1:3]), np.zeros_like(state.angle)
+
+    def starts(self, ctx: FitContext) -> list[np.ndarray]:
+        xs = np.linspace(ctx.lo[0], ctx.hi[0], 3)
+        ys = np.linspace(ctx.lo[1], ctx.hi[1], 3)
+        return [np.array([0.1, x, y]) for x in xs for y in ys]
+
+    def scale(self, ctx: FitContext) -> np.ndarray:
+        size = float(np.max(ctx.hi - ctx.lo))
+        return np.array([0.3, 0.2 * size, 0.2 * size])
+
+    def bounds(self, ctx: FitContext) -> tuple[np.ndarray, np.ndarray]:
+        span = ctx.hi - ctx.lo + 1.0
+        return (np.array([0.0, ctx.lo[0] - span[0], ctx.lo[1] - span[1]]),
+                np.array([1000.0, ctx.hi[0] + span[0], ctx.hi[1] + span[1]]))

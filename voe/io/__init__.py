@@ -1,0 +1,1 @@
+"""Readers and writers: probe sets, manifests, checksums, atomic writes."""

@@ -1,0 +1,1 @@
+"""Models scored by surprise: the protocol, reference predictors, learned models, adapters."""

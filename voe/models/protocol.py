@@ -1,0 +1,39 @@
+"""The model protocol: one attribute pair and one method.
+
+A model is any object with::
+
+    name: str
+    observation: "frames" | "states"
+    frame_nll(batch: Batch) -> np.ndarray  # (B, T) nats, NaN for frames it does not score
+
+``frame_nll[b, t]`` is ``-log p(observation_t | observations_<t)`` of clip ``b`` in nats: a true
+(normalised) likelihood, so that surprises of different models are in the same unit. Frames the
+model does not score (warm-up) are NaN; every other value must be finite.
+
+Why so small: like lm-evaluation-harness's three batch methods, a tiny surface makes it trivial
+to wrap any simulator or world model, and lets one checker (``check_model``) police the contract.
+"""
+
+from __future__ import annotations
+
+from typing import Literal, Protocol, runtime_checkable
+
+import numpy as np
+
+from voe.io.batch import Batch
+
+Observation = Literal["frames", "states"]
+
+__all__ = ["Batch", "Model", "Observation"]
+
+
+@runtime_checkable
+class Model(Protocol):
+    """Structural type of a scoreable model (see the module docstring)."""
+
+    name: str
+    observation: Observation
+
+    def frame_nll(self, batch: Batch) -> np.ndarray:
+        """Per-frame surprise ``(B, T)`` in nats; NaN where not scored."""
+        ...

@@ -1,0 +1,233 @@
+"""Build a gap-finder ``scene.json`` into a pymunk space and step it with external forces.
+
+Why: the gap finder compares recordings with a nominal simulation and with simulations that
+carry candidate effects. Only ``voe.sim`` imports pymunk, so this module owns the space: it
+builds bodies, statics and pivot joints from plain frozen specs, exposes the state as numpy
+arrays, and lets callers add forces and torques and change materials without touching pymunk.
+
+Pivot joints get ``error_bias = 0`` (full position correction every step). With pymunk's default
+bias the impulse solver loses energy at a rate proportional to the step (a frictionless arm
+started at 1.6 rad loses 0.033 J in 5 s at 1 ms steps, as much as a real bearing), which hides
+joint damping. With full correction the loss at 1 ms drops below 1 mJ in 5 s, so a damping fitted
+through this simulator matches the exact ODE to about 2 %.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+import pymunk
+
+
+@dataclass(frozen=True)
+class BodySpec:
+    """One dynamic body. ``size`` is [w, h] for boxes; ``vertices`` are local, COM at origin."""
+
+    name: str
+    shape: str  # "circle" | "box" | "poly"
+    mass: float
+    radius: float = 0.0
+    size: tuple[float, float] = (0.0, 0.0)
+    vertices: tuple[tuple[float, float], ...] = ()
+    moment: float | None = None
+    friction: float = 0.5
+    elasticity: float = 0.0
+
+    def local_vertices(self) -> np.ndarray:
+        """Outline points in the body frame, (V, 2); a circle gives 16 rim points."""
+        if self.shape == "circle":
+            a = np.linspace(0, 2 * np.pi, 16, endpoint=False)
+            return self.radius * np.stack([np.cos(a), np.sin(a)], axis=1)
+        if self.shape == "box":
+            w, h = self.size
+            return np.array([[-w / 2, -h / 2], [w / 2, -h / 2], [w / 2, h / 2], [-w / 2, h / 2]])
+        return np.asarray(self.vertices, dtype=float)
+
+    def moment_value(self) -> float:
+        """The given moment, or pymunk's moment for a uniform shape."""
+        if self.moment is not None:
+            return float(self.moment)
+        if self.shape == "circle":
+            return pymunk.moment_for_circle(self.mass, 0, self.radius)
+        if self.shape == "box":
+            return pymunk.moment_for_box(self.mass, self.size)
+        return pymunk.moment_for_poly(self.mass, [tuple(v) for v in self.vertices])
+
+    @property
+    def gyration_radius(self) -> float:
+        """sqrt(I / m): converts an angle error to a comparable length in metres."""
+        return math.sqrt(self.moment_value() / self.mass)
+
+
+@dataclass(frozen=True)
+class StaticSpec:
+    """A static segment (ground, wall, ramp)."""
+
+    a: tuple[float, float]
+    b: tuple[float, float]
+    radius: float = 0.0
+    friction: float = 0.5
+    elasticity: float = 0.0
+
+
+@dataclass(frozen=True)
+class JointSpec:
+    """A pivot joint with anchors in each body's local frame (``b`` None means the world)."""
+
+    a: str
+    b: str | None
+    anchor_a: tuple[float, float]
+    anchor_b: tuple[float, float]
+    collide_bodies: bool = False
+
+
+@dataclass(frozen=True)
+class SceneSpec:
+    """A whole nominal scene; joints must already have local anchors resolved."""
+
+    gravity: tuple[float, float]
+    bodies: tuple[BodySpec, ...]
+    statics: tuple[StaticSpec, ...] = ()
+    joints: tuple[JointSpec, ...] = ()
+    units: dict = field(default_factory=dict, compare=False, hash=False)
+
+    @property
+    def names(self) -> list[str]:
+        return [b.name for b in self.bodies]
+
+    def jointed(self) -> np.ndarray:
+        """(B,) bool: body takes part in a joint (its motion is 'swinging')."""
+        names = {j.a for j in self.joints} | {j.b for j in self.joints if j.b}
+        return np.array([b.name in names for b in self.bodies])
+
+
+@dataclass
+class SimState:
+    """Numpy view of all dynamic bodies at one instant. Shapes: (B, 2) and (B,)."""
+
+    pos: np.ndarray
+    vel: np.ndarray
+    angle: np.ndarray
+    omega: np.ndarray
+    mass: np.ndarray
+    moment: np.ndarray
+    gravity: np.ndarray  # (2,)
+    contact: Callable[[], np.ndarray]  # lazy (B,) bool: touching anything
+
+
+ForceFn = Callable[[SimState], tuple[np.ndarray, np.ndarray]]
+
+
+@dataclass(frozen=True)
+class Materials:
+    """Per-body overrides applied at build time by effects (None keeps the scene value)."""
+
+    friction: tuple[float | None, ...] | None = None
+    elasticity: tuple[float | None, ...] | None = None
+    mass_scale: tuple[float, ...] | None = None
+
+
+class SimWorld:
+    """A pymunk space built from a ``SceneSpec`` at a given state.
+
+    Args:
+        scene: the nominal scene.
+        pose: (B, 3) x, y, angle of each body's COM.
+        vel: (B, 3) vx, vy, omega.
+        materials: per-body material and mass overrides.
+    """
+
+    def __init__(self, scene: SceneSpec, pose: np.ndarray, vel: np.ndarray,
+                 materials: Materials | None = None) -> None:
+        self.scene = scene
+        mat = materials or Materials()
+        self.space = pymunk.Space()
+        self.space.gravity = tuple(scene.gravity)
+        self.bodies: list[pymunk.Body] = []
+        for i, spec in enumerate(scene.bodies):
+            scale = mat.mass_scale[i] if mat.mass_scale else 1.0
+            body = pymunk.Body(spec.mass * scale, spec.moment_value() * scale)
+            body.position = (float(pose[i, 0]), float(pose[i, 1]))
+            body.angle = float(pose[i, 2])
+            body.velocity = (float(vel[i, 0]), float(vel[i, 1]))
+            body.angular_velocity = float(vel[i, 2])
+            if spec.shape == "circle":
+                shape = pymunk.Circle(body, spec.radius)
+            else:
+                shape = pymunk.Poly(body, [tuple(v) for v in spec.local_vertices()])
+            shape.friction = _pick(mat.friction, i, spec.friction)
+            shape.elasticity = _pick(mat.elasticity, i, spec.elasticity)
+            self.space.add(body, shape)
+            self.bodies.append(body)
+        for st in scene.statics:
+            seg = pymunk.Segment(self.space.static_body, st.a, st.b, st.radius)
+            seg.friction, seg.elasticity = st.friction, st.elasticity
+            self.space.add(seg)
+        index = {n: i for i, n in enumerate(scene.names)}
+        for js in scene.joints:
+            other = self.space.static_body if js.b is None else self.bodies[index[js.b]]
+            joint = pymunk.PivotJoint(self.bodies[index[js.a]], other, js.anchor_a, js.anchor_b)
+            joint.collide_bodies = js.collide_bodies
+            joint.error_bias = 0.0
+            self.space.add(joint)
+        self._mass = np.array([b.mass for b in self.bodies])
+        self._moment = np.array([b.moment for b in self.bodies])
+        self._gravity = np.array(scene.gravity, dtype=float)
+
+    def state(self) -> SimState:
+        """Current state as numpy arrays."""
+        bs = self.bodies
+        pos = np.array([tuple(b.position) for b in bs])
+        vel = np.array([tuple(b.velocity) for b in bs])
+        return SimState(pos, vel, np.array([b.angle for b in bs]), np.array([b.angular_velocity for b in bs]),
+                        self._mass, self._moment, self._gravity, self._contacts)
+
+    def _contacts(self) -> np.ndarray:
+        out = np.zeros(len(self.bodies), dtype=bool)
+        for i, b in enumerate(self.bodies):
+            hits: list[int] = []
+            b.each_arbiter(lambda arb, h=hits: h.append(1))
+            out[i] = bool(hits)
+        return out
+
+    def pose(self) -> np.ndarray:
+        """(B, 3) x, y, angle."""
+        return np.array([(b.position.x, b.position.y, b.angle) for b in self.bodies])
+
+    def run(self, times: np.ndarray, substep: float, force_fn: ForceFn | None = None,
+            force_every: float = 1e-3) -> np.ndarray:
+        """Step through ``times`` (T,), starting at times[0]; return poses (T, B, 3).
+
+        External forces from ``force_fn`` are recomputed every ``force_every`` seconds and held
+        (pymunk clears forces after each step, so they are re-applied every substep).
+        """
+        out = np.empty((len(times), len(self.bodies), 3))
+        out[0] = self.pose()
+        k_force = max(1, round(force_every / substep))
+        bodies, step = self.bodies, self.space.step
+        forces: list[tuple[tuple[float, float], float]] = []
+        count = 0
+        for k in range(1, len(times)):
+            n = max(1, round((times[k] - times[k - 1]) / substep))
+            h = (times[k] - times[k - 1]) / n
+            for _ in range(n):
+                if force_fn is not None:
+                    if count % k_force == 0:
+                        f, tau = force_fn(self.state())  # (B, 2), (B,)
+                        forces = [((float(f[i, 0]), float(f[i, 1])), float(tau[i])) for i in range(len(bodies))]
+                    for b, (fi, ti) in zip(bodies, forces, strict=True):
+                        b.force = fi
+                        b.torque = ti
+                count += 1
+                step(h)
+            out[k] = self.pose()
+        return out
+
+
+def _pick(values: tuple[float | None, ...] | None, i: int, default: float) -> float:
+    if values is None or values[i] is None:
+        return default
+    return float(values[i])

@@ -1,0 +1,159 @@
+"""Deterministic pymunk world built from a ``Scene``, stepped at a fixed frame rate.
+
+Why: concepts need three things from the engine: stepping with fixed substeps, branching one
+rollout into two continuations (``copy``, which keeps pymunk's hidden contact state, as STYLE
+asks, instead of re-creating bodies), and small law-breaking edits at the violation onset
+(remove an object, make it pass through things, switch its gravity off, set its velocity).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pymunk
+
+from voe.sim.scene import N_FEATURES, Body, Scene, Segment
+
+STATIC_CAT = 0b01
+OBJECT_CAT = 0b10
+
+
+def _make_body(spec: Body) -> tuple[pymunk.Body, pymunk.Shape]:
+    if spec.shape == "circle":
+        moment = pymunk.moment_for_circle(spec.mass, 0, spec.radius)
+        body = pymunk.Body(spec.mass, moment)
+        shape: pymunk.Shape = pymunk.Circle(body, spec.radius)
+    elif spec.shape == "box":
+        moment = pymunk.moment_for_box(spec.mass, (spec.width, spec.height))
+        body = pymunk.Body(spec.mass, moment)
+        shape = pymunk.Poly.create_box(body, (spec.width, spec.height))
+    else:  # pragma: no cover - guarded by Body's type
+        raise ValueError(f"unknown shape {spec.shape!r}")
+    body.position = (spec.x, spec.y)
+    body.angle = spec.angle
+    body.velocity = (spec.vx, spec.vy)
+    body.angular_velocity = spec.omega
+    shape.friction = spec.friction
+    shape.elasticity = spec.elasticity
+    shape.filter = pymunk.ShapeFilter(categories=OBJECT_CAT, mask=STATIC_CAT | OBJECT_CAT)
+    body.voe_spec = spec  # survives Space.copy(); gives slot, shape and look
+    body.voe_gravity = True
+    return body, shape
+
+
+def _no_gravity(body: pymunk.Body, gravity, damping, dt) -> None:
+    pymunk.Body.update_velocity(body, (0.0, 0.0), damping, dt)
+
+
+class World:
+    """A pymunk space plus slot bookkeeping.
+
+    Args:
+        scene: initial scene.
+        dt: seconds per frame.
+        substeps: physics steps per frame.
+    """
+
+    def __init__(self, scene: Scene, dt: float, substeps: int) -> None:
+        self.scene = scene
+        self.dt = dt
+        self.substeps = substeps
+        self.space = pymunk.Space()
+        self.space.gravity = scene.gravity
+        self.space.iterations = 20
+        for seg in scene.statics:
+            self._add_static(seg)
+        for spec in scene.bodies:
+            self.add(spec)
+
+    # -- construction -------------------------------------------------------------------
+    def _add_static(self, seg: Segment) -> None:
+        shape = pymunk.Segment(self.space.static_body, seg.a, seg.b, seg.radius)
+        shape.friction = seg.friction
+        shape.elasticity = seg.elasticity
+        shape.filter = pymunk.ShapeFilter(categories=STATIC_CAT, mask=OBJECT_CAT)
+        self.space.add(shape)
+
+    def add(self, spec: Body) -> None:
+        """Add a dynamic object in slot ``spec.slot``."""
+        body, shape = _make_body(spec)
+        self.space.add(body, shape)
+
+    def copy(self) -> World:
+        """Branch the rollout: an independent world with identical state, contacts included."""
+        new = object.__new__(World)
+        new.scene, new.dt, new.substeps = self.scene, self.dt, self.substeps
+        new.space = self.space.copy()
+        return new
+
+    # -- access ------------------------------------------------------------------------
+    def bodies(self) -> dict[int, pymunk.Body]:
+        """Live dynamic bodies by slot."""
+        return {b.voe_spec.slot: b for b in self.space.bodies}
+
+    def body(self, slot: int) -> pymunk.Body:
+        return self.bodies()[slot]
+
+    # -- law-breaking edits used at violation onsets and by counterfactual worlds ----------
+    def remove(self, slot: int) -> None:
+        """Delete the object in ``slot`` (it stops existing)."""
+        b = self.body(slot)
+        self.space.remove(b, *b.shapes)
+
+    def set_passable(self, slot: int, statics: bool = True, objects: bool = True) -> None:
+        """Let the object pass through static geometry and/or other objects."""
+        mask = (0 if statics else STATIC_CAT) | (0 if objects else OBJECT_CAT)
+        for s in self.body(slot).shapes:
+            s.filter = pymunk.ShapeFilter(categories=OBJECT_CAT, mask=mask)
+
+    def set_gravity(self, slot: int, on: bool) -> None:
+        """Switch gravity on or off for one object."""
+        b = self.body(slot)
+        b.voe_gravity = on
+        b.velocity_func = pymunk.Body.update_velocity if on else _no_gravity
+
+    def set_velocity(self, slot: int, vx: float, vy: float, omega: float | None = None) -> None:
+        b = self.body(slot)
+        b.velocity = (vx, vy)
+        if omega is not None:
+            b.angular_velocity = omega
+
+    def teleport(self, slot: int, x: float, y: float) -> None:
+        b = self.body(slot)
+        b.position = (x, y)
+        self.space.reindex_shapes_for_body(b)
+
+    # -- stepping and observing ------------------------------------------------------------
+    def step(self) -> None:
+        """Advance one frame (``substeps`` fixed physics steps)."""
+        h = self.dt / self.substeps
+        for _ in range(self.substeps):
+            self.space.step(h)
+
+    def observe(self, n_slots: int) -> np.ndarray:
+        """State of every slot now: ``(K, F)`` float32, NaN rows for missing objects."""
+        out = np.full((n_slots, N_FEATURES), np.nan, dtype=np.float32)
+        for slot, b in self.bodies().items():
+            spec: Body = b.voe_spec
+            angle = math.remainder(b.angle, 2 * math.pi) if spec.shape == "box" else b.angle
+            out[slot] = (
+                b.position.x, b.position.y, angle, b.velocity.x, b.velocity.y, b.angular_velocity,
+                spec.shape == "circle", spec.shape == "box", spec.width, spec.height, spec.intensity,
+            )
+        return out
+
+    def bboxes(self) -> dict[int, tuple[tuple[float, float], tuple[float, float]]]:
+        """Axis-aligned bounding boxes by slot, for occlusion tests."""
+        out = {}
+        for slot, b in self.bodies().items():
+            bbs = [s.cache_bb() for s in b.shapes]
+            out[slot] = (
+                (min(bb.left for bb in bbs), min(bb.bottom for bb in bbs)),
+                (max(bb.right for bb in bbs), max(bb.top for bb in bbs)),
+            )
+        return out
+
+    def specs(self) -> dict[int, Body]:
+        """Current look (shape, size, intensity) of each live slot."""
+        return {slot: b.voe_spec for slot, b in self.bodies().items()}
