@@ -62,13 +62,17 @@ def first_difference(a: np.ndarray, b: np.ndarray, tol: float = 0.0) -> int:
     return int(np.argmax(per_frame)) if per_frame.any() else len(a)
 
 
-def pair(scene: Scene, cfg: SimConfig, hook: Hook, what: str) -> tuple[Recording, Recording, int]:
+def pair(scene: Scene, cfg: SimConfig, hook: Hook, what: str,
+         possible: tuple[Recording, np.ndarray] | None = None) -> tuple[Recording, Recording, int]:
     """Possible clip, impossible clip (``hook`` applied) and the onset (first differing true state).
+
+    Args:
+        possible: the possible clip's ``rollout`` if the caller already has it.
 
     Raises:
         ConceptError: the edit changed nothing, or a frame before the onset differs.
     """
-    pos, truth_pos = rollout(scene, cfg)
+    pos, truth_pos = possible if possible is not None else rollout(scene, cfg)
     imp, truth_imp = rollout(scene, cfg, hook)
     onset = first_difference(truth_pos, truth_imp)
     if onset >= cfg.n_frames:

@@ -57,12 +57,13 @@ class Continuity(Concept):
         T = ctx.cfg.n_frames
         if ctx.visible:
             full = in_gap_frames(a, slot, p)
-            t1 = pick(full[:-1], p["u_t1"], 1, T - 1, "vanishing in the gap")
-            later = full[full > t1]
-            far = later[later >= t1 + 2]  # leave at least one empty frame when possible
-            t2 = pick(far if far.size else later, p["u_t2"], t1 + 1, T, "reappearing in the gap")
+            t1 = pick(full[:-2], p["u_t1"], 1, T - 1, "vanishing in the gap")
+            t2 = pick(full, p["u_t2"], t1 + 2, T, "reappearing in the gap")
         else:
+            # hidden by the bounding box *and* not one anti-aliased pixel showing past the edge
+            same = np.all(a.frames == b.frames, axis=(1, 2))  # (T,)
             hid = hidden_frames(a, slot)
+            hid = hid[same[hid]]
             x = p["x0"] + p["direction"] * p["speed"] * hid * ctx.cfg.dt  # true x while hidden
             behind = [hid[np.abs(x - sx) <= p["screen_width"] / 2] for sx in p["screen_x"]]
             t1 = pick(behind[0], p["u_t1"], 1, T - 1, "hidden behind screen 1")

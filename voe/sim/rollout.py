@@ -40,13 +40,16 @@ class Recording:
         return int(self.frames.shape[0])
 
 
-def visible_slots(world: World, scene: Scene) -> dict[int, bool]:
-    """Which live slots are visible: inside the window and not fully behind a screen."""
+def visible_slots(world: World, scene: Scene, pixel: float = 0.0) -> dict[int, bool]:
+    """Which live slots are visible: inside the window and not fully behind a screen.
+
+    An object within ``pixel`` of a screen's edge counts as visible: anti-aliasing shows it.
+    """
     out = {}
     w, h = scene.extent
     for slot, (lo, hi) in world.bboxes().items():
         inside = hi[0] > 0 and lo[0] < w and hi[1] > 0 and lo[1] < h
-        hidden = any(o.contains_box(lo, hi) for o in scene.occluders)
+        hidden = any(o.contains_box(lo, hi, pixel) for o in scene.occluders)
         out[slot] = inside and not hidden
     return out
 
@@ -71,7 +74,7 @@ class Recorder:
         """Record the world as it is now."""
         k = self.cfg.n_slots
         st = world.observe(k)  # (K, F)
-        vis = visible_slots(world, self.scene)
+        vis = visible_slots(world, self.scene, self.renderer.pix)
         present = np.zeros(k, dtype=bool)
         exists = np.zeros(k, dtype=bool)
         objs = []

@@ -75,9 +75,15 @@ class Occluder:
     x1: float
     y1: float
 
-    def contains_box(self, lo: tuple[float, float], hi: tuple[float, float]) -> bool:
-        """True if the axis-aligned box ``lo..hi`` lies entirely behind this screen."""
-        return self.x0 <= lo[0] and hi[0] <= self.x1 and self.y0 <= lo[1] and hi[1] <= self.y1
+    def contains_box(self, lo: tuple[float, float], hi: tuple[float, float], margin: float = 0.0) -> bool:
+        """True if the axis-aligned box ``lo..hi`` lies behind this screen, ``margin`` inside its edges.
+
+        The renderer anti-aliases the screen's edges, so a box closer than a pixel to an edge can
+        still tint that edge's pixels; callers pass one pixel as ``margin``.
+        """
+        m = margin
+        return (self.x0 + m <= lo[0] and hi[0] <= self.x1 - m
+                and self.y0 + m <= lo[1] and hi[1] <= self.y1 - m)
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,96 @@
+"""``check_concept``: the conformance check every registered concept must pass.
+
+Why: like Gymnasium's ``env_checker`` and scikit-learn's ``check_estimator``, one public function
+states what a concept promises, and the tests run it over everything in the registry, so a new
+concept (ours or a user's) is held to the same standard:
+
+* determinism: the same (seed, set index) gives byte-identical clips;
+* schema: shapes, dtypes, NaN exactly where an object is not present;
+* conditions: visibility and distractor counts as the base class assigns them;
+* onset: inside the clip; the impossible clips follow a possible clip up to it and differ after;
+* frame balance: spliced quadruplets hold the same frame multiset; pairs share the prefix;
+* physical plausibility of possible clips: objects exist throughout (nothing appears or vanishes)
+  and move continuously (no jump larger than their speed allows).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from voe.concepts.base import Concept, MatchedSet
+from voe.errors import ConceptError
+from voe.io.balance import pair_problem, quadruplet_problem
+from voe.sim.scene import FEATURE_NAMES, SimConfig
+
+_X, _Y, _VX, _VY = (FEATURE_NAMES.index(n) for n in ("x", "y", "vx", "vy"))
+
+
+def _fail(c: Concept, i: int, msg: str) -> None:
+    raise ConceptError(f"check_concept({c.id}) set {i}: {msg}")
+
+
+def _check_schema(c: Concept, i: int, m: MatchedSet, cfg: SimConfig) -> None:
+    T, K, F, S = cfg.n_frames, cfg.n_slots, len(FEATURE_NAMES), cfg.size
+    for clip in m.clips:
+        r = clip.rec
+        if r.frames.shape != (T, S, S) or r.frames.dtype != np.uint8:
+            _fail(c, i, f"{clip.variant} frames {r.frames.dtype}{r.frames.shape}")
+        if r.states.shape != (T, K, F) or r.states.dtype != np.float32:
+            _fail(c, i, f"{clip.variant} states {r.states.dtype}{r.states.shape}")
+        if r.present.shape != (T, K) or r.exists.shape != (T, K):
+            _fail(c, i, f"{clip.variant} present/exists shape {r.present.shape}")
+        if (np.isnan(r.states).all(-1) != ~r.present).any():
+            _fail(c, i, f"{clip.variant}: NaN states do not match present")
+        if (r.present & ~r.exists).any():
+            _fail(c, i, f"{clip.variant}: an object is present but does not exist")
+        if not 1 <= clip.onset < T - 1:
+            _fail(c, i, f"{clip.variant}: onset {clip.onset} outside [1, {T - 1})")
+
+
+def _check_balance(c: Concept, i: int, m: MatchedSet) -> None:
+    pos = [cl.rec.frames for cl in m.clips if cl.role == "possible"]
+    imp = [cl.rec.frames for cl in m.clips if cl.role == "impossible"]
+    onset = m.clips[0].onset
+    if m.kind == "quadruplet":
+        why = quadruplet_problem(pos, imp) if len(pos) == 2 == len(imp) else "not 2+2 clips"
+        if why is None and not np.array_equal(imp[0][:onset], pos[0][:onset]):
+            why = "AB does not follow A before the onset"
+    else:
+        why = pair_problem(pos[0], imp[0], onset) if len(pos) == 1 == len(imp) else "not 1+1 clips"
+    if why:
+        _fail(c, i, why)
+
+
+def _check_plausible(c: Concept, i: int, m: MatchedSet, cfg: SimConfig) -> None:
+    for clip in m.clips:
+        if clip.role != "possible":
+            continue
+        ex = clip.rec.exists  # (T, K)
+        if (ex != ex[:1]).any():
+            _fail(c, i, f"possible clip {clip.variant}: an object appears or vanishes")
+        st = clip.rec.states  # (T, K, F)
+        both = clip.rec.present[1:] & clip.rec.present[:-1]  # (T-1, K)
+        step = np.hypot(*(st[1:, :, [_X, _Y]] - st[:-1, :, [_X, _Y]]).transpose(2, 0, 1))
+        speed = np.maximum(np.hypot(st[1:, :, _VX], st[1:, :, _VY]),
+                           np.hypot(st[:-1, :, _VX], st[:-1, :, _VY]))
+        jump = both & (step > 1.5 * speed * cfg.dt + 0.05)
+        if jump.any():
+            t, k = np.argwhere(jump)[0]
+            _fail(c, i, f"possible clip {clip.variant}: slot {k} jumps {step[t, k]:.3f} at frame {t + 1}")
+
+
+def check_concept(concept: Concept, n_sets: int = 6, seed: int = 0, cfg: SimConfig | None = None) -> None:
+    """Run every conformance check on ``n_sets`` matched sets; raises ``ConceptError`` on failure."""
+    cfg = cfg or SimConfig()
+    for i in range(n_sets):
+        m = concept.make_set(i, seed, cfg)
+        again = concept.make_set(i, seed, cfg)
+        for a, b in zip(m.clips, again.clips, strict=True):
+            if not (np.array_equal(a.rec.frames, b.rec.frames)
+                    and np.array_equal(a.rec.states, b.rec.states, equal_nan=True)):
+                _fail(concept, i, f"clip {a.variant} is not deterministic")
+        if m.visible != (i % 2 == 0) or m.n_distractors != (i // 2) % 3:
+            _fail(concept, i, "conditions are not the ones the base class assigned")
+        _check_schema(concept, i, m, cfg)
+        _check_balance(concept, i, m)
+        _check_plausible(concept, i, m, cfg)

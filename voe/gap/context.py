@@ -1,0 +1,83 @@
+"""Label what each body is doing in each recorded frame: flight, impact, rolling, sliding, swinging.
+
+Why: "the model is wrong from t = 1.2 s" helps less than "the model is wrong whenever the ball is
+rolling". Labels come from the recordings alone (geometry against the static segments, rolling
+condition v = -omega r, acceleration spikes), so they do not depend on any model.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from voe.gap.recordings import Episode
+from voe.sim.scenefile import SceneSpec
+
+LABELS = ("flight", "impact", "rolling", "sliding", "swinging")
+
+
+def _outline(scene: SceneSpec, b: int, pose: np.ndarray) -> np.ndarray:
+    """(T, V, 2) world outline points of body ``b`` over poses (T, 3)."""
+    local = scene.bodies[b].local_vertices()  # (V, 2)
+    c, s = np.cos(pose[:, 2])[:, None], np.sin(pose[:, 2])[:, None]
+    x = pose[:, :1] + c * local[None, :, 0] - s * local[None, :, 1]
+    y = pose[:, 1:2] + s * local[None, :, 0] + c * local[None, :, 1]
+    return np.stack([x, y], axis=-1)
+
+
+def _gap_to_statics(scene: SceneSpec, pts: np.ndarray) -> np.ndarray:
+    """(T,) smallest distance from any outline point (T, V, 2) to any static segment surface."""
+    best = np.full(pts.shape[0], np.inf)
+    for st in scene.statics:
+        a, b = np.asarray(st.a), np.asarray(st.b)
+        ab = b - a
+        u = np.clip(((pts - a) @ ab) / max(float(ab @ ab), 1e-12), 0, 1)  # (T, V)
+        d = np.linalg.norm(pts - (a + u[..., None] * ab), axis=-1) - st.radius
+        best = np.minimum(best, d.min(axis=1))
+    return best
+
+
+def frame_labels(scene: SceneSpec, ep: Episode, tol: float = 0.004) -> np.ndarray:
+    """(T, B) array of labels from ``LABELS`` for every frame and body."""
+    t_len, n_b, _ = ep.pose.shape
+    out = np.empty((t_len, n_b), dtype=object)
+    jointed = scene.jointed()
+    dt = np.gradient(ep.t)  # (T,)
+    vel = np.gradient(ep.pose, axis=0) / dt[:, None, None]  # (T, B, 3)
+    acc = np.gradient(vel, axis=0) / dt[:, None, None]
+    g = float(np.linalg.norm(scene.gravity)) or 9.81
+    for b in range(n_b):
+        if jointed[b]:
+            out[:, b] = "swinging"
+            continue
+        touching = _gap_to_statics(scene, _outline(scene, b, ep.pose[:, b])) < tol if scene.statics else np.zeros(t_len, bool)
+        spike = np.linalg.norm(acc[:, b, :2], axis=1) > 3 * g
+        onset = np.zeros(t_len, bool)
+        onset[1:] = touching[1:] & ~touching[:-1]
+        impact = np.convolve((spike | onset).astype(float), np.ones(5), mode="same") > 0
+        spec = scene.bodies[b]
+        speed = np.linalg.norm(vel[:, b, :2], axis=1)
+        if spec.shape == "circle":
+            slip = np.abs(vel[:, b, 0] + vel[:, b, 2] * spec.radius)  # ground contact below the COM
+            rolling = slip < 0.1 * speed + 0.02
+        else:
+            rolling = np.zeros(t_len, bool)
+        lab = np.where(touching, np.where(rolling, "rolling", "sliding"), "flight").astype(object)
+        lab[impact] = "impact"
+        out[:, b] = lab
+    return out
+
+
+def summarize(labels: np.ndarray, pose: np.ndarray) -> tuple[str, list[float]]:
+    """Dominant label of a stretch (T,) and its region [xmin, xmax, ymin, ymax].
+
+    Impacts win if present (they are brief but decisive); a stretch with no label covering 60 %
+    of its frames is described by its region of space instead.
+    """
+    region = [float(pose[:, 0].min()), float(pose[:, 0].max()), float(pose[:, 1].min()), float(pose[:, 1].max())]
+    vals, counts = np.unique(labels.astype(str), return_counts=True)
+    if "impact" in vals:
+        return "impact", region
+    top = vals[np.argmax(counts)]
+    if counts.max() < 0.6 * len(labels):
+        return f"region x {region[0]:.2f}..{region[1]:.2f} m, y {region[2]:.2f}..{region[3]:.2f} m", region
+    return str(top), region

@@ -1,0 +1,187 @@
+"""The state observation space and its likelihood, shared by every state model.
+
+Observation space of one frame: for each of the K slots either *absent*, or *present* with a
+shape in {circle, box} and the continuous features ``CONT`` in R^9. A state model predicts, per
+slot, a presence probability, a shape probability and a diagonal Gaussian over ``CONT``; the
+frame's surprise is the sum over slots of
+
+    -log P(present) [- log P(shape) - log N(cont; mu, sigma^2)]   (bracket only when present)
+
+which is a normalised density over that space (counting measure on presence and shape, Lebesgue
+on ``CONT``). The angle residual is wrapped to (-pi, pi]; with sigma << pi the wrapped Gaussian's
+missing tail mass is negligible. ``is_box`` is ``1 - is_circle`` and is therefore not scored.
+
+Memory: each slot carries its last observed state forward while it is absent (``carry``), so an
+object that reappears from behind a screen is scored against where it should be now.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from voe.errors import ModelContractError
+from voe.io.batch import Batch
+
+CONT = ("x", "y", "angle", "vx", "vy", "omega", "width", "height", "intensity")
+CONSTANT = ("width", "height", "intensity")  # an object's look never changes
+LOG2PI = float(np.log(2 * np.pi))
+#: Slot kinds of a prediction: tracked (present last frame), returning (seen before, absent last
+#: frame) and new (never seen).
+TRACKED, RETURNING, NEW = 0, 1, 2
+
+
+def cont_index(feature_names: tuple[str, ...]) -> list[int]:
+    """Indices of ``CONT`` (and ``is_circle``) in a batch's features, with a clear error."""
+    missing = [f for f in (*CONT, "is_circle") if f not in feature_names]
+    if missing:
+        raise ModelContractError(f"state models need features {missing}, batch has {list(feature_names)}")
+    return [feature_names.index(f) for f in CONT]
+
+
+def carry(states: np.ndarray, present: np.ndarray, dt: float,
+          step: Callable[[np.ndarray, float], np.ndarray]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per-slot memory: the state at t if present, else the carried prediction.
+
+    Args:
+        states: ``(B, T, K, F)`` with NaN where absent.
+        present: ``(B, T, K)``.
+        step: advances ``(N, F)`` states by one frame.
+
+    Returns:
+        mem ``(B, T, K, F)`` (NaN for never-seen slots), known ``(B, T, K)`` (seen at or before t),
+        age ``(B, T, K)`` frames since last seen (0 when present).
+    """
+    B, T, K, F = states.shape
+    mem = np.full_like(states, np.nan)
+    known = np.zeros((B, T, K), dtype=bool)
+    age = np.zeros((B, T, K), dtype=np.float32)
+    cur = np.full((B, K, F), np.nan, dtype=states.dtype)
+    seen = np.zeros((B, K), dtype=bool)
+    a = np.zeros((B, K), dtype=np.float32)
+    for t in range(T):
+        if t > 0 and seen.any():
+            cur[seen] = step(cur[seen], dt)
+        p = present[:, t]
+        cur[p] = states[:, t][p]
+        seen |= p
+        a = np.where(p, 0.0, a + seen)
+        mem[:, t], known[:, t], age[:, t] = cur, seen, a
+    return mem, known, age
+
+
+def constant_velocity_step(s: np.ndarray, dt: float, names: tuple[str, ...]) -> np.ndarray:
+    """Advance ``(N, F)`` states one frame at constant velocity."""
+    out = s.copy()
+    for p, v in (("x", "vx"), ("y", "vy"), ("angle", "omega")):
+        out[:, names.index(p)] += dt * s[:, names.index(v)]
+    return out
+
+
+def slot_kind(known: np.ndarray, present: np.ndarray) -> np.ndarray:
+    """Kind of the prediction for frame t (t >= 1) from memory at t-1: ``(B, T, K)`` int."""
+    kind = np.full(known.shape, NEW, dtype=np.int8)
+    kind[:, 1:][known[:, :-1]] = RETURNING
+    kind[:, 1:][present[:, :-1]] = TRACKED
+    return kind
+
+
+@dataclass(frozen=True)
+class Noise:
+    """Calibrated noise of a point predictor (all fitted by maximum likelihood).
+
+    Attributes:
+        sigma: per ``CONT`` feature, for tracked slots.
+        sigma_return: per ``CONT`` feature, for slots reappearing after being absent.
+        prior_mean, prior_sigma: per ``CONT`` feature, for slots never seen before.
+        p_present: P(present) for tracked, returning and new slots.
+        p_circle: P(circle) of a new object; p_keep: P(shape unchanged) of a known one.
+    """
+
+    sigma: tuple[float, ...] = (0.05, 0.05, 0.1, 0.3, 0.4, 0.3, 1e-3, 1e-3, 1e-3)
+    sigma_return: tuple[float, ...] = (0.5, 0.5, 1.0, 1.0, 1.0, 1.0, 1e-3, 1e-3, 1e-3)
+    prior_mean: tuple[float, ...] = (5.0, 3.0, 0.0, 0.0, 0.0, 0.0, 0.9, 0.9, 0.8)
+    prior_sigma: tuple[float, ...] = (4.0, 3.0, 1.0, 2.0, 2.0, 2.0, 0.3, 0.3, 0.15)
+    p_present: tuple[float, float, float] = (0.98, 0.1, 0.01)
+    p_circle: float = 0.5
+    p_keep: float = 0.999
+
+
+def _wrap(d: np.ndarray) -> np.ndarray:
+    return (d + np.pi) % (2 * np.pi) - np.pi
+
+
+def residuals(obs: np.ndarray, mean: np.ndarray) -> np.ndarray:
+    """``obs - mean`` over ``CONT`` with the angle wrapped; ``(..., 9)``."""
+    r = obs - mean
+    r[..., 2] = _wrap(r[..., 2])
+    return r
+
+
+def gaussian_nll(r: np.ndarray, sigma: np.ndarray) -> np.ndarray:
+    """Summed over the last axis: ``-log N(r; 0, sigma^2)``."""
+    return (0.5 * (r / sigma) ** 2 + np.log(sigma) + 0.5 * LOG2PI).sum(-1)
+
+
+def score(batch: Batch, mean: np.ndarray, kind: np.ndarray, noise: Noise,
+          p_present: np.ndarray | None = None, circle_mem: np.ndarray | None = None) -> np.ndarray:
+    """Per-frame surprise ``(B, T)`` (frame 0 NaN) of a point prediction with calibrated noise.
+
+    Args:
+        mean: ``(B, T, K, 9)`` predicted ``CONT`` for frame t (ignored for new slots).
+        kind: ``(B, T, K)`` from ``slot_kind``.
+        p_present: optional ``(B, T, K)`` override of P(present) (the oracle knows the screens).
+        circle_mem: ``(B, T, K)`` remembered is_circle for known slots.
+    """
+    idx = cont_index(batch.feature_names)
+    obs = batch.states[..., idx].astype(np.float64)  # (B, T, K, 9)
+    pres = batch.present
+    mu = np.where((kind == NEW)[..., None], np.asarray(noise.prior_mean), mean)
+    sig = np.select([(kind == TRACKED)[..., None], (kind == RETURNING)[..., None]],
+                    [np.asarray(noise.sigma), np.asarray(noise.sigma_return)], np.asarray(noise.prior_sigma))
+    pp = np.asarray(noise.p_present)[kind] if p_present is None else p_present
+    pp = np.clip(pp, 1e-6, 1 - 1e-6)
+    nll = -np.where(pres, np.log(pp), np.log1p(-pp))  # (B, T, K)
+    cont = gaussian_nll(residuals(np.nan_to_num(obs), np.nan_to_num(mu)), sig)
+    circ = batch.states[..., batch.feature("is_circle")] > 0.5
+    if circle_mem is None:
+        circle_mem = np.zeros_like(circ)
+    p_shape = np.where(kind == NEW, np.where(circ, noise.p_circle, 1 - noise.p_circle),
+                       np.where(circ == circle_mem, noise.p_keep, 1 - noise.p_keep))
+    nll = nll + np.where(pres, cont - np.log(np.clip(p_shape, 1e-9, 1)), 0.0)
+    out = nll.sum(-1)  # (B, T)
+    out[:, 0] = np.nan
+    return out
+
+
+def fit_noise(batch: Batch, mean: np.ndarray, kind: np.ndarray, circle_mem: np.ndarray) -> Noise:
+    """Maximum-likelihood noise for a point predictor on (possible) clips ``batch``."""
+    idx = cont_index(batch.feature_names)
+    obs = batch.states[..., idx].astype(np.float64)
+    pres = batch.present.copy()
+    pres[:, 0] = False  # frame 0 is not scored
+    d = Noise()
+
+    def rms(sel: np.ndarray, default: tuple[float, ...], ref: np.ndarray) -> tuple[float, ...]:
+        if sel.sum() < 5:
+            return default
+        r = residuals(obs[sel], ref[sel])
+        return tuple(float(v) for v in np.maximum(np.sqrt((r ** 2).mean(0)), 1e-3))
+
+    tracked, ret, new = (pres & (kind == k) for k in (TRACKED, RETURNING, NEW))
+    prior_mean = tuple(float(v) for v in obs[new].mean(0)) if new.sum() >= 5 else d.prior_mean
+    pm = np.broadcast_to(np.asarray(prior_mean), obs.shape)
+    p_present = []
+    for k in (TRACKED, RETURNING, NEW):
+        sel = kind[:, 1:] == k
+        n_pres = batch.present[:, 1:][sel].sum()
+        p_present.append(float((n_pres + 1) / (sel.sum() + 2)))  # Laplace smoothing
+    circ = batch.states[..., batch.feature("is_circle")] > 0.5
+    known = pres & (kind != NEW)
+    keep = float((np.sum(circ[known] == circle_mem[known]) + 1) / (known.sum() + 2))
+    return Noise(sigma=rms(tracked, d.sigma, mean), sigma_return=rms(ret, d.sigma_return, mean),
+                 prior_mean=prior_mean, prior_sigma=rms(new, d.prior_sigma, pm),
+                 p_present=tuple(p_present),
+                 p_circle=float((circ[new].sum() + 1) / (new.sum() + 2)), p_keep=keep)

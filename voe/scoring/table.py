@@ -1,0 +1,83 @@
+"""Tables per model x concept (and x condition), computed from stored runs only.
+
+Why here and not in ``report``: the numbers in a report, a notebook and a test must come from the
+same code; the report only lays them out.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+import pandas as pd
+
+from voe.scoring.metrics import accuracy, auroc, score_set
+from voe.scoring.runs import Run
+from voe.scoring.stats import bootstrap_ci, holm, permutation_pvalue
+from voe.scoring.verdict import verdict
+
+SUMMARY_COLUMNS = ("model", "concept", "n_sets", "accuracy", "ci_low", "ci_high", "p_value", "p_holm",
+                   "verdict", "note", "relative_surprise", "pair_acc_max", "auroc")
+SET_KEYS = ("concept", "set_id", "set_kind", "visible_violation", "n_distractors")
+
+
+def set_table(run: Run) -> pd.DataFrame:
+    """One row per matched set of ``run``: summed surprises and per-set metrics."""
+    clips = run.clips
+    rows = []
+    for keys, grp in clips.groupby(list(SET_KEYS), sort=True):
+        sc = score_set(run.nll[grp.index.to_numpy()], (grp["role"] == "impossible").to_numpy())
+        rows.append({"model": run.label, **dict(zip(SET_KEYS, keys, strict=True)),
+                     "s_imp": sc.s_imp, "s_pos": sc.s_pos, "accuracy": sc.accuracy,
+                     "accuracy_max": sc.accuracy_max, "relative": sc.relative, "n_frames": sc.n_frames})
+    out = pd.DataFrame(rows)
+    dup = out["set_id"].duplicated()
+    if dup.any():
+        from voe.errors import RunError
+
+        raise RunError(f"{run.path}: set '{out['set_id'][dup].iloc[0]}' has clips with different "
+                       "concept/kind/conditions in clips.parquet")
+    return out
+
+
+def _cell(sets: pd.DataFrame, n_boot: int, seed: int) -> dict[str, float]:
+    s = sets["accuracy"].to_numpy()
+    lo, hi = bootstrap_ci(s, n_boot=n_boot, seed=seed)
+    return {"n_sets": len(s), "accuracy": accuracy(s), "ci_low": lo, "ci_high": hi}
+
+
+def concept_table(runs: Sequence[Run], n_boot: int = 10_000, seed: int = 0) -> pd.DataFrame:
+    """Per model x concept: accuracy with CI, p-values (raw and Holm across a model's concepts),
+    verdict, relative surprise, pair accuracy on max surprise and AUROC over clips."""
+    rows = []
+    for run in runs:
+        sets = set_table(run)
+        start = len(rows)
+        for concept, grp in sets.groupby("concept", sort=True):
+            clips = run.clips[run.clips["concept"] == concept]
+            rows.append({"model": run.label, "concept": concept, **_cell(grp, n_boot, seed),
+                         "p_value": permutation_pvalue(grp["accuracy"].to_numpy(), seed=seed),
+                         "relative_surprise": float(np.nanmean(grp["relative"])) if grp["relative"].notna().any() else float("nan"),
+                         "pair_acc_max": accuracy(grp["accuracy_max"].to_numpy()),
+                         "auroc": auroc(clips["sum"].to_numpy(), (clips["role"] == "impossible").to_numpy())})
+        adj = holm(np.array([r["p_value"] for r in rows[start:]]))
+        for r, p in zip(rows[start:], adj, strict=True):
+            r["p_holm"] = float(p)
+            r["verdict"], r["note"] = verdict(r["accuracy"], r["ci_low"], r["ci_high"], r["p_holm"])
+    return pd.DataFrame(rows, columns=list(SUMMARY_COLUMNS))
+
+
+def condition_table(runs: Sequence[Run], n_boot: int = 10_000, seed: int = 0) -> pd.DataFrame:
+    """Per model x concept x condition (``visible``/``occluded``; ``k distractors``), plus the
+    pooled ``concept == 'all'`` rows; accuracy with bootstrap CI."""
+    rows = []
+    for run in runs:
+        sets = set_table(run)
+        sets["visibility"] = np.where(sets["visible_violation"].astype(bool), "visible", "occluded")
+        sets["distractors"] = sets["n_distractors"].astype(int).map(lambda k: f"{k} distractors")
+        for kind in ("visibility", "distractors"):
+            for concept, per_concept in [*sets.groupby("concept", sort=True), ("all", sets)]:
+                for cond, grp in per_concept.groupby(kind, sort=True):
+                    rows.append({"model": run.label, "concept": concept, "condition_kind": kind,
+                                 "condition": cond, **_cell(grp, n_boot, seed)})
+    return pd.DataFrame(rows)
