@@ -10,7 +10,7 @@ from voe.io.probeset import load_probe_set
 from voe.io.validate import validate_probe_set
 from voe.sim.scene import FEATURE_NAMES, SimConfig
 
-CFG = SimConfig(n_frames=30, size=32)
+CFG = SimConfig(size=32)
 
 
 def test_same_seed_gives_byte_identical_sets_whatever_jobs(tmp_path):

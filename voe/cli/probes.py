@@ -34,8 +34,7 @@ def generate(
     per_concept: int = typer.Option(20, "--per-concept", min=1, help="Matched sets per concept."),
     seed: int = typer.Option(0, help="Master seed; the same seed gives byte-identical sets."),
     jobs: int = typer.Option(1, min=1, help="Worker processes."),
-    size: int = typer.Option(64, min=16, max=512, help="Frame side in pixels."),
-    n_frames: int = typer.Option(40, "--frames", min=20, help="Frames per clip."),
+    size: int = typer.Option(64, min=32, max=256, help="Frame side in pixels."),
     overwrite: bool = typer.Option(False, help="Replace an existing output directory."),
 ) -> None:
     """Generate a balanced probe set."""
@@ -44,7 +43,7 @@ def generate(
     from voe.sim.scene import SimConfig
 
     ids = resolve_concepts(None if concept else suite, concept)
-    cfg = SimConfig(size=size, n_frames=n_frames)
+    cfg = SimConfig(size=size)
     with progress(len(ids) * per_concept, "matched sets", "set") as tick:
         m = generate_probe_set(out, ids, per_concept, seed, cfg, jobs, overwrite, tick)
     typer.echo(f"wrote {m['n_clips']} clips of {len(ids)} concepts to {out}")

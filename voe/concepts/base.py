@@ -74,6 +74,11 @@ class Context:
     distractors: tuple[Body, ...]
     lane: tuple[Segment, ...]
 
+    @property
+    def pixel(self) -> float:
+        """Scene units per pixel at this probe set's resolution."""
+        return 10.0 / self.cfg.size
+
 
 def splice(a: Recording, b: Recording, mask: np.ndarray) -> tuple[Recording, Recording]:
     """Build the impossible pair ``(AB, BA)`` from two possible clips and a time mask ``(T,)``."""

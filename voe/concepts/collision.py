@@ -54,7 +54,7 @@ class Collision(Concept):
         w1, w2 = sizes
         m = self.uniform(rng, r["screen_margin"])
         xs = sorted([xc - direction * (w1 + m), xc + direction * (w2 + m)])
-        return {"looks": looks, "direction": direction, "v1": v1, "v2": v2,
+        return {"main_slots": list(ctx.slots[:2]), "looks": looks, "direction": direction, "v1": v1, "v2": v2,
                 "x1": xc - direction * (w1 / 2 + v1 * t_c), "x2": xc + direction * (w2 / 2 + v2 * t_c),
                 "elasticity": [self.uniform(rng, r["elasticity"]) for _ in range(2)],
                 "mode": "pass" if not ctx.visible or rng.random() < 0.5 else "distance",

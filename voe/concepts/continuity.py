@@ -51,7 +51,7 @@ class Continuity(Concept):
     def _possible_pair(self, p: dict[str, Any], ctx: Context) -> tuple[Recording, Recording, np.ndarray]:
         slot = ctx.slots[0]
         obj = on_floor(p["look"], slot, p["x0"], p["direction"] * p["speed"])
-        occ = [screen(x, p["screen_width"], p["screen_height"]) for x in p["screen_x"]]
+        occ = [screen(x, p["screen_width"], p["screen_height"], pad=ctx.pixel) for x in p["screen_x"]]
         a = simulate(self.scene(ctx, [obj], [floor()], occ), ctx.cfg)
         b = simulate(self.scene(ctx, [], [floor()], occ), ctx.cfg)
         T = ctx.cfg.n_frames
@@ -60,10 +60,7 @@ class Continuity(Concept):
             t1 = pick(full[:-2], p["u_t1"], 1, T - 1, "vanishing in the gap")
             t2 = pick(full, p["u_t2"], t1 + 2, T, "reappearing in the gap")
         else:
-            # hidden by the bounding box *and* not one anti-aliased pixel showing past the edge
-            same = np.all(a.frames == b.frames, axis=(1, 2))  # (T,)
-            hid = hidden_frames(a, slot)
-            hid = hid[same[hid]]
+            hid = hidden_frames(a, slot)  # pixel-accurate: no anti-aliased pixel shows
             x = p["x0"] + p["direction"] * p["speed"] * hid * ctx.cfg.dt  # true x while hidden
             behind = [hid[np.abs(x - sx) <= p["screen_width"] / 2] for sx in p["screen_x"]]
             t1 = pick(behind[0], p["u_t1"], 1, T - 1, "hidden behind screen 1")

@@ -37,7 +37,7 @@ class Energy(Concept):
     def _sample(self, rng: np.random.Generator, ctx: Context) -> dict[str, Any]:
         r = self.ranges
         size = self.uniform(rng, r["size"])
-        return {"look": {"shape": "circle", "width": size, "height": size,
+        return {"main_slots": list(ctx.slots[:1]), "look": {"shape": "circle", "width": size, "height": size,
                          "intensity": self.uniform(rng, [0.65, 1.0])},
                 "x": self.uniform(rng, r["x"]), "drop": self.uniform(rng, r["drop"]),
                 "ball_elasticity": self.uniform(rng, r["ball_elasticity"]),

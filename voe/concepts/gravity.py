@@ -41,7 +41,8 @@ class Gravity(Concept):
         w, h = look["width"], look["height"]
         direction = 1 if rng.random() < 0.5 else -1
         event = "ledge" if (not ctx.visible or rng.random() < 0.5) else "throw"
-        p: dict[str, Any] = {"look": look, "event": event, "direction": direction,
+        p: dict[str, Any] = {"main_slots": list(ctx.slots[:1]), "look": look, "event": event,
+                             "direction": direction,
                              "mode": str(rng.choice(["hover", "rise"] if event == "ledge" else ["hang", "rise"])),
                              "rise_speed": self.uniform(rng, r["rise_speed"]), "u_onset": float(rng.random())}
         if event == "ledge":

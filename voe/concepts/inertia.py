@@ -63,7 +63,7 @@ class Inertia(Concept):
 
     def _possible_pair(self, p: dict[str, Any], ctx: Context) -> tuple[Recording, Recording, np.ndarray]:
         slot = ctx.slots[0]
-        occ = [screen(p["screen_x"], p["screen_width"], p["screen_height"])]
+        occ = [screen(p["screen_x"], p["screen_width"], p["screen_height"], pad=ctx.pixel)]
         dt = ctx.cfg.dt
         a, b = (simulate(self.scene(ctx, [on_floor(p["look"], slot, start_x(p, v, dt), v)],
                                     [floor()], occ), ctx.cfg)

@@ -22,9 +22,17 @@ def floor(friction: float = 0.0, elasticity: float = 0.5) -> Segment:
     return Segment(FLOOR.a, FLOOR.b, FLOOR.radius, friction, elasticity, "floor")
 
 
-def screen(cx: float, width: float, height: float, bottom: float = FLOOR_Y - 0.3) -> Occluder:
-    """A screen standing on the floor, centred at ``cx``."""
-    return Occluder(cx - width / 2, bottom, cx + width / 2, bottom + height)
+def screen(cx: float, width: float, height: float, bottom: float = FLOOR_Y - 0.3,
+           pad: float = 0.0) -> Occluder:
+    """A screen standing on the floor, centred at ``cx``.
+
+    ``pad`` widens it on both sides; concepts pass one pixel (``Context.pixel``) so that an object
+    hidden "with room to spare" in scene units is also hidden at coarse resolutions, where an
+    object within a pixel of the edge still shows (see ``Occluder.contains_box``).
+    The screen's top is ``bottom + height``; its lower edge is drawn down to the window's bottom so
+    that an object resting on the floor is never within a pixel of it.
+    """
+    return Occluder(cx - width / 2 - pad, min(bottom, 0.0), cx + width / 2 + pad, bottom + height)
 
 
 def on_floor(look: dict[str, Any], slot: int, x: float, vx: float = 0.0, **kw: Any) -> Body:
@@ -39,8 +47,15 @@ def hidden_frames(rec: Recording, slot: int) -> np.ndarray:
     return np.flatnonzero(rec.exists[:, slot] & ~rec.present[:, slot])
 
 
-def visible_frames(rec: Recording, slot: int) -> np.ndarray:
-    return np.flatnonzero(rec.present[:, slot])
+def visible_frames(rec: Recording, slot: int, extent: float = 10.0) -> np.ndarray:
+    """Frames where the object is in plain view: wholly inside the window, clear of every screen."""
+    st = rec.states[:, slot]  # (T, F), NaN when not present
+    x, y, w, h = st[:, 0], st[:, 1], st[:, 8], st[:, 9]
+    with np.errstate(invalid="ignore"):
+        ok = rec.present[:, slot] & (x - w / 2 > 0) & (x + w / 2 < extent) & (y + h / 2 < extent)
+        for o in rec.geometry.get("occluders", []):
+            ok &= (x + w / 2 < o["x0"]) | (x - w / 2 > o["x1"]) | (y - h / 2 > o["y1"])
+    return np.flatnonzero(ok)
 
 
 def pick(frames: np.ndarray, u: float, lo: int, hi: int, what: str) -> int:

@@ -30,8 +30,9 @@ class Permanence(Concept):
         width = look["width"] + self.uniform(rng, r["screen_margin"])
         speed = self.uniform(rng, r["speed"])
         direction = 1 if rng.random() < 0.5 else -1
-        # start so that the object reaches the screen's near edge after 0.35..0.5 of the clip
-        t_reach = self.uniform(rng, [0.35, 0.5]) * ctx.cfg.n_frames * ctx.cfg.dt
+        # start so that the object reaches the screen's near edge after 0.1..0.2 of the clip,
+        # leaving time to come out on the far side before the end
+        t_reach = self.uniform(rng, [0.1, 0.2]) * ctx.cfg.n_frames * ctx.cfg.dt
         x0 = sx - direction * (width / 2 + look["width"] / 2 + speed * t_reach)
         return {"look": look, "screen_x": sx, "screen_width": width,
                 "screen_height": look["height"] + 0.9, "speed": speed, "direction": direction,
@@ -40,7 +41,7 @@ class Permanence(Concept):
     def _possible_pair(self, p: dict[str, Any], ctx: Context) -> tuple[Recording, Recording, np.ndarray]:
         slot = ctx.slots[0]
         obj = on_floor(p["look"], slot, p["x0"], p["direction"] * p["speed"])
-        occ = [screen(p["screen_x"], p["screen_width"], p["screen_height"])]
+        occ = [screen(p["screen_x"], p["screen_width"], p["screen_height"], pad=ctx.pixel)]
         a = simulate(self.scene(ctx, [obj], [floor()], occ), ctx.cfg)
         b = simulate(self.scene(ctx, [], [floor()], occ), ctx.cfg)
         T = ctx.cfg.n_frames
@@ -48,6 +49,11 @@ class Permanence(Concept):
             onset = pick(visible_frames(a, slot), p["u_onset"], 4, T - 4, "visible vanishing")
         else:
             hid = hidden_frames(a, slot)
+            if hid.size:  # the first hidden stretch is the passage behind the screen
+                hid = hid[: int(np.argmax(np.diff(np.append(hid, -9)) != 1)) + 1]
+            seen = visible_frames(a, slot)
+            if hid.size == 0 or (seen > hid[-1]).sum() < 3:
+                raise ValueError("the object does not come out of the screen for 3 frames")
             onset = pick(hid, p["u_onset"], 2, T - 2, "occluded vanishing")
         mask = np.arange(T) >= onset
         return a, b, mask

@@ -21,7 +21,7 @@ import numpy as np
 
 from voe.concepts.base import Concept, Context
 from voe.concepts.branch import edited, first_difference, pair, rollout
-from voe.concepts.parts import FLOOR_Y, floor, screen
+from voe.concepts.parts import FLOOR_Y, floor
 from voe.sim.rollout import Recording
 from voe.sim.scene import Body, Occluder, Scene, Segment
 from voe.sim.world import World
@@ -41,7 +41,8 @@ class Solidity(Concept):
         look = self.random_look(rng)
         event = "shelf" if rng.random() < 0.5 else "wall"
         direction = 1 if rng.random() < 0.5 else -1
-        p: dict[str, Any] = {"look": look, "event": event, "direction": direction,
+        p: dict[str, Any] = {"main_slots": list(ctx.slots[:1]), "look": look, "event": event,
+                             "direction": direction,
                              "elasticity": self.uniform(rng, r["elasticity"])}
         w, h = look["width"], look["height"]
         if event == "shelf":

@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from voe.concepts.base import Concept, Context
-from voe.concepts.parts import floor, on_floor, pick, screen
+from voe.concepts.parts import floor, hidden_frames, on_floor, pick, screen
 from voe.sim.rollout import Recording, simulate
 
 CHANGES = ("shape", "size", "both")
@@ -58,7 +58,7 @@ class Unchangeableness(Concept):
     def _possible_pair(self, p: dict[str, Any], ctx: Context) -> tuple[Recording, Recording, np.ndarray]:
         slot = ctx.slots[0]
         vx = p["direction"] * p["speed"]
-        occ = screen(p["screen_x"], p["screen_width"], p["screen_height"])
+        occ = screen(p["screen_x"], p["screen_width"], p["screen_height"], pad=ctx.pixel)
         a, b = (simulate(self.scene(ctx, [on_floor(p[look], slot, p["x0"], vx)], [floor()], [occ]),
                          ctx.cfg) for look in ("look_x", "look_y"))
         T = ctx.cfg.n_frames
@@ -66,11 +66,9 @@ class Unchangeableness(Concept):
             clear = _clear_of_screen(a, slot, occ) & _clear_of_screen(b, slot, occ)
             onset = pick(np.flatnonzero(clear), p["u_onset"], 5, T - 5, "morph in plain view")
         else:
-            # both fully hidden: no object pixel in either clip (frames equal a clip without it)
-            empty = simulate(self.scene(ctx, [], [floor()], [occ]), ctx.cfg)
-            hidden = (np.all(a.frames == empty.frames, axis=(1, 2))
-                      & np.all(b.frames == empty.frames, axis=(1, 2)) & a.exists[:, slot])
-            onset = pick(np.flatnonzero(hidden), p["u_onset"], 2, T - 2, "morph behind the screen")
+            # both hidden (``present`` is pixel-accurate: no anti-aliased pixel shows)
+            hidden = np.intersect1d(hidden_frames(a, slot), hidden_frames(b, slot))
+            onset = pick(hidden, p["u_onset"], 2, T - 2, "morph behind the screen")
         return a, b, np.arange(T) >= onset
 
 

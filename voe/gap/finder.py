@@ -17,11 +17,12 @@ import pandas as pd
 from voe.gap.effects import EFFECTS
 from voe.gap.effects.base import Effect, EffectSum, FitContext
 from voe.gap.fit import FitConfig, Fitter
+from voe.gap.context import frame_labels
 from voe.gap.locate import locate, window_z
 from voe.gap.recordings import Episode, load_recordings
 from voe.gap.scene import load_scene, resolve_joints
 from voe.gap.search import candidate_gains, greedy
-from voe.gap.shooting import Shooter, Window, make_windows, noise_floor
+from voe.gap.shooting import Shooter, Window, choose_half, make_windows, noise_floor
 from voe.gap.synth import null_like
 from voe.gap.verify import explain, verify
 from voe.sim.scenefile import SceneSpec
@@ -36,9 +37,9 @@ class GapConfig:
     fit_window: float = 1.0
     locate_window: float = 0.5
     substep: float | None = None  # default 1 ms, 0.5 ms for scenes with joints
-    fit_budget: float = 16.0
-    test_budget: float = 20.0
-    null_budget: float = 10.0
+    fit_budget: float = 8.0
+    test_budget: float = 10.0
+    null_budget: float = 6.0
     min_gain: float = 0.05
     null_safety: float = 2.0
     z_min: float = 5.0
@@ -83,11 +84,14 @@ class GapFinder:
 
         # 1. null calibration on simulated clean data
         note("null: simulate clean data")
-        null_eps = null_like(self.scene_, self.episodes_, self.sigma_, rng, sub)
-        null_shooter = Shooter(self.scene_, null_eps, sub)
         loc_all = make_windows(self.episodes_, list(range(n)), cfg.locate_window)
-        z_null = window_z(null_shooter, loc_all, self.sigma_)  # (W, B, 3)
-        self.z_threshold_ = float(max(cfg.z_min, 1.2 * np.max(z_null)))
+        self.half_ = choose_half(self.scene_, self.episodes_, loc_all, sub)
+        self._bad = _bad_starts(self.scene_, self.episodes_, self.half_)
+        loc_all = make_windows(self.episodes_, list(range(n)), cfg.locate_window, bad_start=self._bad)
+        null_eps = null_like(self.scene_, self.episodes_, self.sigma_, rng, sub)
+        null_shooter = Shooter(self.scene_, null_eps, sub, self.half_)
+        z_null = window_z(null_shooter, loc_all, self.sigma_).max(axis=(1, 2))  # (W,)
+        self.z_threshold_ = float(max(cfg.z_min, 1.5 * np.quantile(z_null, 0.95)))
         nf = Fitter(null_shooter, self.sigma_, *self._split(null_eps, train_ids, test_ids, rng, cfg.null_budget), ctx, cfg.fit)
         _, null_gains = candidate_gains(nf, candidates, None, np.zeros(0), nf.heldout(None, None),
                                         lambda k: note(f"null: {k}"))
@@ -96,10 +100,10 @@ class GapFinder:
 
         # 2. locate
         note("locate")
-        shooter = Shooter(self.scene_, self.episodes_, sub)
+        shooter = Shooter(self.scene_, self.episodes_, sub, self.half_)
         z = window_z(shooter, loc_all, self.sigma_)
         self.located_ = [x.to_dict() for x in locate(shooter, loc_all, z, self.z_threshold_)]
-        contexts = {x["context"] for x in self.located_}
+        contexts = {x["context"] for x in self.located_} or _all_labels(self.scene_, self.episodes_)
 
         # 3. hypothesise and fit
         train_w, test_w = self._split(self.episodes_, train_ids, test_ids, rng, cfg.fit_budget, cfg.test_budget)
@@ -112,13 +116,14 @@ class GapFinder:
 
         # 4. verify on all held-out windows
         note("verify")
-        hold = make_windows(self.episodes_, test_ids, cfg.fit_window)
+        hold = make_windows(self.episodes_, test_ids, cfg.fit_window, bad_start=self._bad)
         self.verification_ = verify(shooter, hold, effect, params, self.sigma_, self.z_threshold_)
         v = self.verification_
         self.fit_ = {"metric": "rmse_m (x, y and angle*sqrt(I/m), multiple shooting windows of "
                                f"{cfg.fit_window:g} s)",
                      "before": v.rmse_before, "after": v.rmse_after,
                      "position_before": v.position_rmse_before, "position_after": v.position_rmse_after,
+                     "window_median_before": v.window_median_before, "window_median_after": v.window_median_after,
                      "holdout_episodes": self.holdout_episodes_, "train_episodes": self.train_episodes_,
                      "threshold_gain": self.threshold_, "z_threshold": self.z_threshold_,
                      "residuals_look_like_noise": v.looks_like_noise,
@@ -131,8 +136,8 @@ class GapFinder:
     def _split(self, episodes: list[Episode], train_ids: list[int], test_ids: list[int],
                rng: np.random.Generator, budget: float, test_budget: float | None = None) -> tuple[list[Window], list[Window]]:
         w = self.config.fit_window
-        train = _subsample(make_windows(episodes, train_ids, w), budget, w, rng)
-        test = _subsample(make_windows(episodes, test_ids, w), test_budget or budget, w, rng)
+        train = _subsample(make_windows(episodes, train_ids, w, bad_start=self._bad), budget, w, rng)
+        test = _subsample(make_windows(episodes, test_ids, w, bad_start=self._bad), test_budget or budget, w, rng)
         return train, test
 
     def to_dict(self) -> dict:
@@ -160,6 +165,19 @@ def _load(scene: str | Path | SceneSpec, recordings: str | Path | pd.DataFrame |
     if joints:
         spec = resolve_joints(spec, joints, eps[0].pose[0])
     return spec, eps
+
+
+def _bad_starts(scene: SceneSpec, episodes: list[Episode], half: int) -> dict[int, np.ndarray]:
+    """Samples within the velocity-fit span of an impact of any body, per episode index."""
+    out = {}
+    for i, e in enumerate(episodes):
+        impact = (frame_labels(scene, e) == "impact").any(axis=1).astype(float)  # (T,)
+        out[i] = np.convolve(impact, np.ones(2 * half + 3), mode="same") > 0
+    return out
+
+
+def _all_labels(scene: SceneSpec, episodes: list[Episode]) -> set[str]:
+    return {str(v) for e in episodes for v in np.unique(frame_labels(scene, e).astype(str))}
 
 
 def _context(scene: SceneSpec, episodes: list[Episode]) -> FitContext:

@@ -22,7 +22,8 @@ from voe.gap.shooting import Shooter, Window, rmse
 class FitConfig:
     """How hard to try. ``max_nfev`` bounds least-squares evaluations per candidate."""
 
-    max_nfev: int = 25
+    max_nfev: int = 10
+    refine_nfev: int = 30
     f_scale: float = 3.0  # soft-L1 knee, in units of the expected residual
 
 
@@ -68,7 +69,7 @@ class Fitter:
         fs = self.config.f_scale
         return float(np.sum(2 * fs**2 * (np.sqrt(1 + (z / fs) ** 2) - 1)))
 
-    def fit(self, effect: Effect, starts: list[np.ndarray] | None = None) -> FitResult:
+    def fit(self, effect: Effect, starts: list[np.ndarray] | None = None, max_nfev: int | None = None) -> FitResult:
         """Fit ``effect`` from the most promising of ``starts`` (default: the effect's own)."""
         if effect.n_params == 0:
             return FitResult(effect, np.zeros(0), self.cost(effect, np.zeros(0)), self.heldout(effect, np.zeros(0)))
@@ -76,12 +77,14 @@ class Fitter:
         scale = effect.scale(self.ctx)
         starts = list(starts) if starts is not None else effect.starts(self.ctx)
         starts = [np.clip(s, lo + 1e-12 * scale, hi - 1e-12 * scale) for s in starts]
-        if len(starts) > 1:  # pick the most promising start by training cost
-            starts = [min(starts, key=lambda s: self.cost(effect, s))]
+        if len(starts) > 1:  # pick the most promising start by training cost on a third of the windows
+            sub = Fitter.__new__(Fitter)
+            sub.__dict__.update(self.__dict__, train=self.train[::3], _weights=self._weights[::3])
+            starts = [min(starts, key=lambda s: sub.cost(effect, s))]
         res = least_squares(
             lambda p: self.standardized(effect, p), starts[0], bounds=(lo, hi), x_scale=scale,
             diff_step=0.05 * scale / np.maximum(1.0, np.abs(starts[0])), loss="soft_l1",
-            f_scale=self.config.f_scale, max_nfev=self.config.max_nfev, method="trf",
+            f_scale=self.config.f_scale, max_nfev=max_nfev or self.config.max_nfev, method="trf",
         )
         return FitResult(effect, res.x, float(2 * res.cost), self.heldout(effect, res.x))
 

@@ -83,7 +83,10 @@ def greedy(fitter: Fitter, candidates: dict[str, Effect], threshold: float, max_
         rounds.append(Round(before, results, gains, winner, group))
         if winner is None:
             break
-        res = results[winner]
+        res = fitter.fit(results[winner].effect, [results[winner].params], fitter.config.refine_nfev)
+        if res.heldout_rmse > results[winner].heldout_rmse:
+            res = results[winner]
+        results[winner] = res
         current, params, before = res.effect, res.params, res.heldout_rmse
         for k in group:  # members of the winner's group explain the same thing
             pool.pop(k, None)

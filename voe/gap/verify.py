@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from voe.gap.effects.base import Effect
-from voe.gap.shooting import Shooter, Window, position_rmse, rmse
+from voe.gap.shooting import Shooter, Window, position_rmse, rmse, window_score
 
 
 @dataclass(frozen=True)
@@ -23,6 +23,8 @@ class Verification:
     rmse_after: float
     position_rmse_before: float
     position_rmse_after: float
+    window_median_before: float
+    window_median_after: float
     median_z_before: float
     median_z_after: float
     flagged_before: float
@@ -40,6 +42,7 @@ def verify(shooter: Shooter, windows: list[Window], effect: Effect | None, param
     za = np.array([np.sqrt(np.mean((r / s)[1:] ** 2, axis=0)).max() for r, s in zip(after, sp, strict=True)])
     flagged_after = float(np.mean(za > z_thr))
     return Verification(rmse(before), rmse(after), position_rmse(before), position_rmse(after),
+                        window_score(before), window_score(after),
                         float(np.median(zb)), float(np.median(za)), float(np.mean(zb > z_thr)), flagged_after,
                         bool(flagged_after <= 0.1))
 

@@ -7,10 +7,16 @@ from voe.registry import Registry
 MODELS: Registry = Registry("model")
 
 # references (no training; noise calibrated by maximum likelihood)
-MODELS.register("framecopy-v1", "voe.models.framecopy:FrameCopy", observation="frames", learned=False)
-MODELS.register("constvel-v1", "voe.models.constvel:ConstantVelocity", observation="states", learned=False)
-MODELS.register("oracle-v1", "voe.models.oracle:PhysicsOracle", observation="states", learned=False)
+MODELS.register("framecopy-v1", "voe.models.framecopy:FrameCopy", observation="frames", learned=False,
+                summary="frame copy, calibrated pixel-flip probability (binarised pixels)")
+MODELS.register("constvel-v1", "voe.models.constvel:ConstantVelocity", observation="states", learned=False,
+                summary="constant velocity, calibrated Gaussian, presence and per-slot memory")
+MODELS.register("oracle-v1", "voe.models.oracle:PhysicsOracle", observation="states", learned=False,
+                summary="pymunk re-simulation from the observed state with calibrated noise (upper bound)")
 # learned (torch)
-MODELS.register("mlp-v1", "voe.models.mlp:FlatMLP", observation="states", learned=True)
-MODELS.register("interaction-v1", "voe.models.interaction:InteractionNet", observation="states", learned=True)
-MODELS.register("pixel-v1", "voe.models.pixel:PixelModel", observation="frames", learned=True)
+MODELS.register("mlp-v1", "voe.models.mlp:FlatMLP", observation="states", learned=True,
+                summary="flat Gaussian MLP over all slots, no object structure")
+MODELS.register("interaction-v1", "voe.models.interaction:InteractionNet", observation="states", learned=True,
+                summary="object-centric interaction network: memory, presence, statics, screens")
+MODELS.register("pixel-v1", "voe.models.pixel:PixelModel", observation="frames", learned=True,
+                summary="conv predictor with ConvGRU memory, per-pixel Bernoulli")

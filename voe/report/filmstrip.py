@@ -36,8 +36,17 @@ def filmstrip_figure(frames: Sequence[np.ndarray], labels: Sequence[str], onset:
     n = len(frames)
     rows = n * (2 if traces is not None else 1)
     heights = [1.0, 0.6] * n if traces is not None else [1.0] * n
+    ylim = None
+    if traces is not None:  # one y scale for every trace, so heights compare across clips
+        vals = np.concatenate([np.asarray(tr, dtype=float).ravel() for tr in traces])
+        vals = vals[np.isfinite(vals)]
+        if vals.size:
+            lo, hi = float(vals.min()), float(vals.max())
+            pad = 0.08 * (hi - lo) if hi > lo else 0.5
+            ylim = (lo - pad, hi + pad)
     fig = plt.figure(figsize=(min(0.55 * len(shown), 22), 0.75 * sum(heights) + 0.5))
-    gs = fig.add_gridspec(rows, len(shown), height_ratios=heights, hspace=0.15, wspace=0.04)
+    gs = fig.add_gridspec(rows, len(shown), height_ratios=heights, wspace=0.04,
+                          hspace=0.35 if traces is not None else 0.15)
     for c, (clip, label) in enumerate(zip(frames, labels, strict=True)):
         r = c * (2 if traces is not None else 1)
         for j, t in enumerate(shown):
@@ -58,6 +67,8 @@ def filmstrip_figure(frames: Sequence[np.ndarray], labels: Sequence[str], onset:
             ax.plot(np.arange(T), traces[c], color="tab:red" if "imp" in label else "tab:blue", lw=1.2)
             ax.axvline(onset[c], color="red", ls="--", lw=0.8)
             ax.set_xlim(-0.5, T - 0.5)
+            if ylim is not None:
+                ax.set_ylim(*ylim)
             ax.tick_params(labelsize=6)
             ax.set_ylabel("nats", fontsize=6)
     if title:

@@ -136,6 +136,7 @@ def score_probe_set(model: Any, probes: ProbeSet | str | Path, out: Path, *, mod
     meta = {
         "schema_version": RUN_SCHEMA_VERSION, "voe_version": __version__,
         "model": {"ref": model_ref or f"{type(model).__module__}:{type(model).__qualname__}",
+                  "class": f"{type(model).__module__}:{type(model).__qualname__}",
                   "args": dict(model_args or {}), "name": name,
                   "observation": str(getattr(model, "observation", "")),
                   "checkpoint": str(checkpoint) if checkpoint else None,

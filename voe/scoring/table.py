@@ -74,7 +74,7 @@ def condition_table(runs: Sequence[Run], n_boot: int = 10_000, seed: int = 0) ->
     for run in runs:
         sets = set_table(run)
         sets["visibility"] = np.where(sets["visible_violation"].astype(bool), "visible", "occluded")
-        sets["distractors"] = sets["n_distractors"].astype(int).map(lambda k: f"{k} distractors")
+        sets["distractors"] = sets["n_distractors"].astype(int).map(lambda k: f"{k} distractor{'' if k == 1 else 's'}")
         for kind in ("visibility", "distractors"):
             for concept, per_concept in [*sets.groupby("concept", sort=True), ("all", sets)]:
                 for cond, grp in per_concept.groupby(kind, sort=True):

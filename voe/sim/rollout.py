@@ -48,7 +48,7 @@ def visible_slots(world: World, scene: Scene, pixel: float = 0.0) -> dict[int, b
     out = {}
     w, h = scene.extent
     for slot, (lo, hi) in world.bboxes().items():
-        inside = hi[0] > 0 and lo[0] < w and hi[1] > 0 and lo[1] < h
+        inside = hi[0] > pixel and lo[0] < w - pixel and hi[1] > pixel and lo[1] < h - pixel
         hidden = any(o.contains_box(lo, hi, pixel) for o in scene.occluders)
         out[slot] = inside and not hidden
     return out

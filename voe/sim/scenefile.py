@@ -198,33 +198,42 @@ class SimWorld:
         return np.array([(b.position.x, b.position.y, b.angle) for b in self.bodies])
 
     def run(self, times: np.ndarray, substep: float, force_fn: ForceFn | None = None,
-            force_every: float = 1e-3) -> np.ndarray:
+            kick_every: float = 4e-3) -> np.ndarray:
         """Step through ``times`` (T,), starting at times[0]; return poses (T, B, 3).
 
-        External forces from ``force_fn`` are recomputed every ``force_every`` seconds and held
-        (pymunk clears forces after each step, so they are re-applied every substep).
+        External forces from ``force_fn`` are applied as velocity kicks (impulse = force times
+        ``kick_every``) once per ``kick_every`` seconds. Why: evaluating Python forces and
+        setting pymunk forces every 1 ms substep made effect rollouts ten times slower than
+        nominal ones; a kick every few milliseconds is a first-order splitting with the same
+        order of accuracy as holding the force.
         """
         out = np.empty((len(times), len(self.bodies), 3))
         out[0] = self.pose()
-        k_force = max(1, round(force_every / substep))
+        k_kick = max(1, round(kick_every / substep))
         bodies, step = self.bodies, self.space.step
-        forces: list[tuple[tuple[float, float], float]] = []
         count = 0
         for k in range(1, len(times)):
             n = max(1, round((times[k] - times[k - 1]) / substep))
             h = (times[k] - times[k - 1]) / n
             for _ in range(n):
-                if force_fn is not None:
-                    if count % k_force == 0:
-                        f, tau = force_fn(self.state())  # (B, 2), (B,)
-                        forces = [((float(f[i, 0]), float(f[i, 1])), float(tau[i])) for i in range(len(bodies))]
-                    for b, (fi, ti) in zip(bodies, forces, strict=True):
-                        b.force = fi
-                        b.torque = ti
+                if force_fn is not None and count % k_kick == 0:
+                    self._kick(force_fn, k_kick * h)
                 count += 1
                 step(h)
             out[k] = self.pose()
         return out
+
+    def _kick(self, force_fn: ForceFn, dt: float) -> None:
+        st = self.state()
+        f, tau = force_fn(st)  # (B, 2), (B,)
+        dv = f * (dt / st.mass)[:, None]  # (B, 2)
+        dw = tau * dt / st.moment  # (B,)
+        for b, (dvx, dvy), w in zip(self.bodies, dv.tolist(), dw.tolist(), strict=True):
+            if dvx or dvy:
+                v = b.velocity
+                b.velocity = (v.x + dvx, v.y + dvy)
+            if w:
+                b.angular_velocity = b.angular_velocity + w
 
 
 def _pick(values: tuple[float | None, ...] | None, i: int, default: float) -> float:

@@ -1,0 +1,80 @@
+"""Training lowers validation NLL; checkpoints round-trip; mismatched checkpoints are refused."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from voe.errors import CheckpointError, ProbeSetError
+from voe.io.batch import Batch
+from voe.models.loading import load_model
+from voe.models.train import TrainConfig, split_batches, train, val_nll
+
+
+def test_training_lowers_val_nll_and_round_trips(tiny_world, tmp_path):
+    _, val, _ = split_batches(tiny_world, 0.25, 0)
+    untrained = val_nll(load_model("interaction", {"seed": 0}), val)
+    meta = train("interaction", tiny_world, tmp_path / "ck", TrainConfig(steps=60, val_frac=0.25, eval_every=20))
+    assert meta["val_nll"] < untrained - 5.0, (untrained, meta["val_nll"])
+    cfg = json.loads((tmp_path / "ck" / "config.json").read_text())
+    assert cfg["seed"] == 0 and len(cfg["train_manifest_sha256"]) == 64
+    assert cfg["feature_layout"]["feature_names"][0] == "x"
+    a = load_model("interaction", checkpoint=tmp_path / "ck").frame_nll(val)
+    b = load_model("interaction-v1", checkpoint=tmp_path / "ck").frame_nll(val)
+    np.testing.assert_array_equal(a, b)
+    assert np.nanmean(a) == pytest.approx(meta["val_nll"], abs=1e-4)
+
+
+def test_reference_calibration_round_trips(tiny_world, tmp_path):
+    meta = train("constvel", tiny_world, tmp_path / "cv", TrainConfig(val_frac=0.25))
+    _, val, _ = split_batches(tiny_world, 0.25, 0)
+    model = load_model("constvel", checkpoint=tmp_path / "cv")
+    assert val_nll(model, val) == pytest.approx(meta["val_nll"])
+    assert val_nll(model, val) < val_nll(load_model("constvel"), val)
+
+
+@pytest.fixture(scope="module")
+def mlp_ckpt(tiny_world, tmp_path_factory):
+    out = tmp_path_factory.mktemp("ck") / "mlp"
+    train("mlp", tiny_world, out, TrainConfig(steps=3, val_frac=0.25))
+    return out
+
+
+def test_checkpoint_of_another_model_is_refused(mlp_ckpt):
+    with pytest.raises(CheckpointError, match="trained for model 'mlp-v1', not 'interaction-v1'"):
+        load_model("interaction", checkpoint=mlp_ckpt)
+
+
+def test_checkpoint_with_other_architecture_is_refused(mlp_ckpt, tmp_path):
+    with pytest.raises(CheckpointError, match="hidden"):
+        load_model("mlp", {"hidden": 32}, checkpoint=mlp_ckpt)
+    bad = tmp_path / "bad"
+    bad.mkdir()
+    cfg = json.loads((mlp_ckpt / "config.json").read_text())
+    cfg["config"]["hidden"] = 32
+    (bad / "config.json").write_text(json.dumps(cfg))
+    (bad / "weights.safetensors").write_bytes((mlp_ckpt / "weights.safetensors").read_bytes())
+    with pytest.raises(CheckpointError, match="does not fit mlp-v1"):
+        load_model("mlp", checkpoint=bad)
+
+
+def test_checkpoint_with_other_feature_layout_is_refused(mlp_ckpt, tiny_batch):
+    model = load_model("mlp", checkpoint=mlp_ckpt)
+    names = tuple(f"{n}_renamed" if n == "intensity" else n for n in tiny_batch.feature_names)
+    other = Batch(tiny_batch.frames, tiny_batch.states, tiny_batch.present, names, tiny_batch.dt,
+                  tiny_batch.geometry, tiny_batch.clip_ids)
+    with pytest.raises(CheckpointError, match="feature_names"):
+        model.frame_nll(other)
+
+
+def test_missing_checkpoint(tmp_path):
+    with pytest.raises(CheckpointError, match="does not exist"):
+        load_model("mlp", checkpoint=tmp_path / "nope")
+
+
+def test_empty_training_set(tmp_path):
+    (tmp_path / "empty").mkdir()
+    with pytest.raises(ProbeSetError):
+        train("mlp", tmp_path / "empty", tmp_path / "ck", TrainConfig(steps=1))

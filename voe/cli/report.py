@@ -1,0 +1,27 @@
+"""``voe report``: compare stored runs in a markdown/html report with figures and summary.csv."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+
+def register(app: typer.Typer) -> None:
+    """Add the top-level ``report`` command to ``app``."""
+
+    @app.command("report")
+    def report(
+        runs: list[Path] = typer.Argument(..., help="Run directories written by `voe score`."),
+        out: Path = typer.Option(..., "--out", help="Report directory, e.g. reports/NAME."),
+        title: str | None = typer.Option(None, help="Report title."),
+        seed: int = typer.Option(0, help="Seed of the bootstrap and permutation tests."),
+        overwrite: bool = typer.Option(False, help="Replace an existing report directory."),
+    ) -> None:
+        """Build report.md, report.html, summary.csv and figures from stored runs (no model is run)."""
+        from voe.report.build import build_report
+
+        summary = build_report(runs, out, title=title, seed=seed, overwrite=overwrite)
+        counts = summary["verdict"].value_counts().to_dict()
+        typer.echo(f"wrote {out / 'report.html'}: {len(summary)} model x concept cells "
+                   f"({', '.join(f'{v} {k}' for k, v in sorted(counts.items()))})")

@@ -1,0 +1,55 @@
+"""``voe train``: train a learned model (or calibrate a reference) and write a checkpoint."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+
+def train(
+    model: str = typer.Argument(..., help="Registered model name (see `voe model list`)."),
+    data: Path = typer.Option(..., "--data", help="Training set from `voe world generate`."),
+    out: Path = typer.Option(..., "--out", help="Checkpoint directory to write."),
+    steps: int = typer.Option(None, "--steps", min=1, help="Optimiser steps."),
+    minutes: float = typer.Option(None, "--minutes", min=0.01, help="Wall-clock budget (default 3)."),
+    device: str = typer.Option("cpu", "--device", help="cpu or cuda."),
+    seed: int = typer.Option(0, "--seed", help="Seed of initialisation, split and batches."),
+    val_frac: float = typer.Option(0.1, "--val-frac", min=0.0, max=0.9, help="Held-out fraction."),
+    model_arg: list[str] = typer.Option(None, "--model-arg", help="key=value (repeatable)."),
+) -> None:
+    """Train MODEL on a training set; shows progress and validation NLL (nats per frame)."""
+    from voe.cli.common import parse_kv
+    from voe.errors import VoeError
+    from voe.models.train import TrainConfig
+    from voe.models.train import train as run
+
+    if steps is not None and minutes is not None:
+        raise VoeError("give --steps or --minutes, not both")
+    if device not in ("cpu", "cuda"):
+        raise VoeError(f"--device must be cpu or cuda, got '{device}'")
+    if steps is None and minutes is None:
+        minutes = 3.0
+    cfg = TrainConfig(steps=steps, minutes=minutes, device=device, seed=seed, val_frac=val_frac)
+    from tqdm import tqdm
+
+    bar = tqdm(total=steps, desc=f"train {model}", unit="step", dynamic_ncols=True)
+    state = {"val": float("nan")}
+
+    def report(step: int, loss: float, val: float | None) -> None:
+        if val is not None:
+            state["val"] = val
+        bar.update(1)
+        bar.set_postfix(loss=f"{loss:.2f}", val_nll=f"{state['val']:.2f}", refresh=False)
+
+    try:
+        meta = run(model, data, out, cfg, parse_kv(model_arg), report)
+    finally:
+        bar.close()
+    typer.echo(f"wrote {out}: {meta['model']}, {meta['steps']} steps in {meta['seconds']:.0f} s, "
+               f"validation NLL {meta['val_nll']:.3f} nats/frame")
+
+
+def register(app: typer.Typer) -> None:
+    """Add the top-level ``train`` command."""
+    app.command("train")(train)

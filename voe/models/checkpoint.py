@@ -1,0 +1,68 @@
+"""Checkpoints: a directory with ``weights.safetensors`` and ``config.json``, written atomically.
+
+Why: loading must never unpickle (safetensors holds only tensors), and a checkpoint must say
+exactly what it is: the model id and config (architecture), the training seed, the sha256 of the
+training set's manifest and the feature layout, so that loading it into another architecture or
+scoring it on another feature layout fails with a ``CheckpointError`` instead of a silent mess.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from voe.errors import CheckpointError
+from voe.io.atomic import atomic_dir
+
+FORMAT = "voe-checkpoint-1"
+WEIGHTS, CONFIG = "weights.safetensors", "config.json"
+
+
+def save_checkpoint(out: Path, meta: dict[str, Any], tensors: dict[str, Any] | None = None) -> Path:
+    """Write ``meta`` (must hold ``model`` and ``config``) and ``tensors`` to directory ``out``.
+
+    ``tensors`` may be torch tensors or numpy arrays; reference models pass none.
+    """
+    tensors = tensors or {}
+    with atomic_dir(Path(out), overwrite=True) as tmp:
+        if tensors and not isinstance(next(iter(tensors.values())), np.ndarray):
+            from safetensors.torch import save_file
+        else:
+            from safetensors.numpy import save_file
+        save_file(tensors, str(tmp / WEIGHTS))
+        (tmp / CONFIG).write_text(json.dumps({"format": FORMAT, **meta}, indent=1, sort_keys=True) + "\n")
+    return Path(out)
+
+
+def read_checkpoint(path: Path) -> dict[str, Any]:
+    """The checkpoint's ``config.json`` (weights are loaded separately by ``load_tensors``)."""
+    path = Path(path)
+    cfg = path / CONFIG
+    if not path.exists():
+        raise CheckpointError(f"checkpoint {path} does not exist; train one with `voe train MODEL --out {path}`")
+    if not cfg.exists():
+        raise CheckpointError(f"{path} is not a voe checkpoint (no {CONFIG}); expected a directory from `voe train`")
+    try:
+        meta = json.loads(cfg.read_text())
+    except json.JSONDecodeError as exc:
+        raise CheckpointError(f"{cfg} is not valid JSON: {exc}") from exc
+    if meta.get("format") != FORMAT or "model" not in meta or "config" not in meta:
+        raise CheckpointError(f"{cfg} is not a {FORMAT} checkpoint config")
+    return meta
+
+
+def load_tensors(path: Path) -> dict[str, Any]:
+    """Torch tensors from ``weights.safetensors`` (no pickle)."""
+    from safetensors import SafetensorError
+    from safetensors.torch import load_file
+
+    w = Path(path) / WEIGHTS
+    if not w.exists():
+        raise CheckpointError(f"checkpoint {path} lacks {WEIGHTS}")
+    try:
+        return load_file(str(w))
+    except (SafetensorError, OSError, ValueError) as exc:
+        raise CheckpointError(f"{w} cannot be read: {exc}") from exc

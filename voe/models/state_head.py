@@ -1,0 +1,87 @@
+"""The Gaussian/Bernoulli output head shared by the learned state models (torch).
+
+Why: the flat MLP and the interaction network must put their surprise in the same observation
+space as the references (``voe.models.statelik``): per slot, presence, shape, and a diagonal
+Gaussian over the nine continuous features. Both networks emit ``OUT = 17`` numbers per slot:
+
+    0      presence logit for t+1
+    1-6    mean correction of (x, y, angle, vx, vy, omega)
+    7-15   log-variance of the nine features (bounded to [-14, 5])
+    16     shape logit (circle)
+
+The mean is ``bias + skip([constant-velocity guess, memory]) + correction``. The linear ``skip``
+and the networks' last layers start at zero, so an *untrained* model predicts the same
+distribution for every object whatever it saw: a frame-only scorer, which ties exactly on spliced
+matched sets (chance). Whatever a trained model knows, even "things keep moving", it learned. Never-seen slots go through the same head (their inputs are
+zero and flagged unknown), so appearing and tracked objects are not treated differently by design.
+"""
+
+from __future__ import annotations
+
+import math
+
+import torch
+from torch import nn
+
+OUT = 17
+LOG2PI = math.log(2 * math.pi)
+DELTA_SCALE = (0.1, 0.1, 0.1, 1.0, 1.0, 1.0)
+TYPICAL = (5.0, 3.0, 0.0, 0.0, 0.0, 0.0, 0.9, 0.9, 0.8)
+
+
+class StateHead(nn.Module):
+    """Zero-initialised linear skip from the remembered state to the predicted mean.
+
+    Args:
+        n_slots: slots mixed by the skip; 1 means one skip shared by every slot (object-centric),
+            K means one skip over all slots flattened (no object structure).
+    """
+
+    def __init__(self, n_slots: int = 1) -> None:
+        super().__init__()
+        self.n = n_slots
+        self.skip = nn.Linear(18 * n_slots, 9 * n_slots)
+        nn.init.zeros_(self.skip.weight)
+        with torch.no_grad():
+            self.skip.bias.copy_(torch.tensor(TYPICAL).repeat(n_slots))
+        self.shape_gain = nn.Parameter(torch.zeros(()))
+
+    def mean(self, base: torch.Tensor, mem: torch.Tensor) -> torch.Tensor:
+        # base, mem: (B, T, K, 9) -> (B, T, K, 9)
+        B, T, K, _ = base.shape
+        z = torch.cat([base, mem], -1)  # (B, T, K, 18)
+        if self.n == 1:
+            return self.skip(z)
+        return self.skip(z.reshape(B, T, K * 18)).reshape(B, T, K, 9)
+
+
+def bounded_logvar(raw: torch.Tensor) -> torch.Tensor:
+    return -4.5 + 9.5 * torch.tanh(raw / 9.5)
+
+
+def state_nll(out: torch.Tensor, head: StateHead, d: dict[str, torch.Tensor]) -> torch.Tensor:
+    """Surprise of frame t+1 given the head output at t.
+
+    Args:
+        out: ``(B, T-1, K, OUT)`` network output from inputs at t = 0..T-2.
+        d: tensors from ``voe.models.features.slot_features`` (as torch), length T.
+
+    Returns:
+        ``(B, T)`` with frame 0 set to 0 (the caller masks warm-up).
+    """
+    known, pres = d["known"][:, :-1], d["present"][:, 1:]  # (B, T-1, K) at t and t+1
+    base, mem, obs = d["base"][:, :-1], d["mem"][:, :-1], d["obs"][:, 1:]  # (B, T-1, K, 9)
+    scale = out.new_tensor(DELTA_SCALE)
+    mean = head.mean(base, mem)
+    mean = torch.cat([mean[..., :6] + scale * out[..., 1:7], mean[..., 6:]], -1)
+    logvar = bounded_logvar(out[..., 7:16])
+    r = obs - mean
+    r = torch.cat([r[..., :2], torch.remainder(r[..., 2:3] + math.pi, 2 * math.pi) - math.pi, r[..., 3:]], -1)
+    gauss = 0.5 * (r * r * torch.exp(-logvar) + logvar + LOG2PI).sum(-1)  # (B, T-1, K)
+    circ_mem = d["circle"][:, :-1].float() * known.float()
+    shape_logit = out[..., 16] + head.shape_gain * (2 * circ_mem - 1) * known.float()
+    shape = nn.functional.binary_cross_entropy_with_logits(shape_logit, d["circle"][:, 1:].float(), reduction="none")
+    presence = nn.functional.binary_cross_entropy_with_logits(out[..., 0], pres.float(), reduction="none")
+    per_slot = presence + torch.where(pres, gauss + shape, torch.zeros_like(gauss))
+    frame = per_slot.sum(-1)  # (B, T-1)
+    return torch.cat([torch.zeros_like(frame[:, :1]), frame], 1)  # (B, T)

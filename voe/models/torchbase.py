@@ -1,0 +1,89 @@
+"""What every learned (torch) model shares: config, seeding, scoring, weights in and out.
+
+Why: learned models differ only in their network and in how a batch becomes tensors; the
+protocol method, evaluation mode, seeding and the checkpoint's view of the weights are the same.
+A subclass sets ``Config`` (a frozen dataclass), ``observation`` and ``warmup``, and implements
+``build`` (the ``nn.Module``), ``prepare`` (batch -> tensors) and ``nll`` (tensors -> ``(B, T)``
+surprise, NaN-free, meaningless before ``warmup``). Training code lives in ``voe.models.train``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, fields
+from typing import Any, ClassVar
+
+import numpy as np
+import torch
+
+from voe.errors import CheckpointError
+from voe.io.batch import Batch
+
+
+class TorchModel:
+    """Base class of the learned models (see the module docstring)."""
+
+    Config: ClassVar[type]
+    observation: ClassVar[str]
+    warmup: ClassVar[int] = 1
+    model_id: ClassVar[str]
+
+    def __init__(self, **kwargs: Any) -> None:
+        known = {f.name for f in fields(self.Config)}
+        unknown = sorted(set(kwargs) - known)
+        if unknown:
+            raise TypeError(f"unexpected argument(s) {unknown}; {type(self).__name__} takes {sorted(known)}")
+        self.config = self.Config(**kwargs)
+        self.name = self.model_id.split("-v")[0]
+        torch.manual_seed(self.config.seed)
+        self.net: torch.nn.Module = self.build()
+        self.layout: dict[str, Any] | None = None  # set by training / checkpoint
+
+    # -- hooks ---------------------------------------------------------------------------
+    def build(self) -> torch.nn.Module:
+        raise NotImplementedError
+
+    def prepare(self, batch: Batch) -> dict[str, torch.Tensor]:
+        raise NotImplementedError
+
+    def nll(self, data: dict[str, torch.Tensor]) -> torch.Tensor:
+        raise NotImplementedError
+
+    def batch_layout(self, batch: Batch) -> dict[str, Any]:
+        raise NotImplementedError
+
+    # -- protocol ----------------------------------------------------------------------------
+    def frame_nll(self, batch: Batch) -> np.ndarray:
+        self.check_layout(batch)
+        self.net.eval()
+        with torch.no_grad():
+            out = self.nll(self.prepare(batch)).double().numpy().copy()  # (B, T)
+        out[:, : self.warmup] = np.nan
+        return out
+
+    # -- checkpoints -------------------------------------------------------------------------
+    def check_layout(self, batch: Batch) -> None:
+        """Refuse a batch whose features differ from the ones the weights were trained on."""
+        if self.layout is None:
+            return
+        have = self.batch_layout(batch)
+        diff = [k for k in self.layout if have.get(k) != self.layout[k]]
+        if diff:
+            k = diff[0]
+            raise CheckpointError(f"{self.name}: checkpoint was trained with {k}={self.layout[k]}, "
+                                  f"this data has {k}={have.get(k)}; retrain on matching data")
+
+    def config_dict(self) -> dict[str, Any]:
+        return asdict(self.config)
+
+    def weights(self) -> dict[str, torch.Tensor]:
+        return {k: v.detach().cpu().contiguous() for k, v in self.net.state_dict().items()}
+
+    def load_weights(self, tensors: dict[str, torch.Tensor], source: str) -> None:
+        want = self.net.state_dict()
+        missing, extra = sorted(set(want) - set(tensors)), sorted(set(tensors) - set(want))
+        bad = [k for k in want if k in tensors and tuple(tensors[k].shape) != tuple(want[k].shape)]
+        if missing or extra or bad:
+            what = (f"missing {missing[:3]}" if missing else f"unexpected {extra[:3]}" if extra
+                    else f"shape of {bad[0]} is {tuple(tensors[bad[0]].shape)}, expected {tuple(want[bad[0]].shape)}")
+            raise CheckpointError(f"{source} does not fit {self.model_id} with config {self.config_dict()}: {what}")
+        self.net.load_state_dict(tensors)

@@ -1,0 +1,161 @@
+"""Training: fit a learned model (or calibrate a reference) on a training set, with validation.
+
+Why: one loop serves every learned model. Models expose ``prepare`` (the whole set as tensors)
+and ``nll`` over windows of frames; state models train on windows of 2 frames (their inputs hold
+the per-slot memory already), the pixel model on short windows through its recurrent memory.
+References are "trained" by fitting their noise by maximum likelihood. Validation NLL is the mean
+per-frame surprise (nats) over scored frames of held-out clips, the same number ``bench`` prints.
+"""
+
+from __future__ import annotations
+
+import copy
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from voe.errors import ProbeSetError, VoeError
+from voe.io.batch import Batch
+from voe.io.probeset import load_probe_set
+
+
+@dataclass(frozen=True)
+class TrainConfig:
+    """How long and where to train (the architecture is the model's own config)."""
+
+    steps: int | None = None
+    minutes: float | None = None
+    device: str = "cpu"
+    seed: int = 0
+    val_frac: float = 0.1
+    eval_every: int = 100
+    threads: int = 1  # torch threads on CPU: on a shared 2-core machine one thread is fastest
+
+
+def split_batches(data: Path, val_frac: float, seed: int) -> tuple[Batch, Batch, str]:
+    """Train and validation batches of a set's possible/training clips, and the manifest hash."""
+    ps = load_probe_set(data)
+    ids = list(ps.index.loc[ps.index.role != "impossible", "clip_id"])
+    if len(ids) < 2:
+        raise ProbeSetError(f"training set {data} has {len(ids)} usable clip(s); need at least 2 "
+                            f"(one for validation); generate more with `voe world generate --n N`")
+    rng = np.random.default_rng(seed)
+    order = [ids[i] for i in rng.permutation(len(ids))]
+    n_val = min(len(ids) - 1, max(1, int(round(val_frac * len(ids)))))
+    val, tr = sorted(order[:n_val]), sorted(order[n_val:])
+    return ps.batch(tr), ps.batch(val), ps.manifest_sha256
+
+
+def val_nll(model: Any, batch: Batch, chunk: int = 64) -> float:
+    """Mean per-frame surprise over scored frames."""
+    parts = [model.frame_nll(batch.take(slice(i, i + chunk))) for i in range(0, len(batch), chunk)]
+    return float(np.nanmean(np.concatenate(parts)))
+
+
+def _windows(data: dict, b: np.ndarray, t0: np.ndarray, L: int) -> dict:
+    import torch
+
+    bi = torch.from_numpy(b)[:, None]
+    ti = torch.from_numpy(t0)[:, None] + torch.arange(L)[None]
+    return {k: v[bi, ti] for k, v in data.items()}  # each (n, L, ...)
+
+
+def fit(model: Any, train: Batch, val: Batch, cfg: TrainConfig,
+        report: Callable[[int, float, float | None], None] | None = None) -> dict[str, Any]:
+    """Train a ``TorchModel`` in place; keeps the weights with the best validation NLL."""
+    import torch
+
+    if cfg.device == "cuda" and not torch.cuda.is_available():
+        raise VoeError("--device cuda requested but torch sees no CUDA device; use --device cpu")
+    preset = model.presets["cuda" if cfg.device == "cuda" else "cpu"]
+    if cfg.device == "cpu" and cfg.threads:
+        torch.set_num_threads(cfg.threads)
+    torch.manual_seed(cfg.seed)
+    rng = np.random.default_rng(cfg.seed)
+    data = model.prepare(train)
+    T = train.shape[1]
+    L = min(preset["window"], T)
+    model.net.to(cfg.device)
+    opt = torch.optim.Adam(model.net.parameters(), lr=preset["lr"])
+    steps = cfg.steps if cfg.steps is not None else 10**9
+    deadline = time.monotonic() + 60 * cfg.minutes if cfg.minutes is not None else float("inf")
+    best, best_state, history, step = float("inf"), None, [], 0
+    start = time.monotonic()
+    while step < steps and time.monotonic() < deadline:
+        model.net.train()
+        b = rng.integers(0, len(train), preset["batch"])
+        t0 = rng.integers(0, T - L + 1, preset["batch"])
+        win = {k: v.to(cfg.device) for k, v in _windows(data, b, t0, L).items()}
+        done = step / steps if cfg.steps is not None else (time.monotonic() - start) / (60 * cfg.minutes)
+        for g in opt.param_groups:  # linear decay to 5%: late steps refine the mean's precision
+            g["lr"] = preset["lr"] * (1 - 0.95 * min(done, 1.0))
+        loss = model.nll(win)[:, model.warmup:].mean()
+        opt.zero_grad()
+        loss.backward()
+        torch.nn.utils.clip_grad_norm_(model.net.parameters(), 10.0)
+        opt.step()
+        step += 1
+        v = None
+        last = step >= steps or time.monotonic() >= deadline
+        if step % cfg.eval_every == 0 or last:
+            model.net.to("cpu")
+            v = val_nll(model, val)
+            model.net.to(cfg.device)
+            history.append((step, float(loss), v))
+            if v < best:
+                best, best_state = v, copy.deepcopy(model.net.state_dict())
+        if report:
+            report(step, float(loss), v)
+    model.net.to("cpu")
+    if best_state is not None:
+        model.net.load_state_dict({k: t.cpu() for k, t in best_state.items()})
+    seconds = time.monotonic() - start
+    return {"steps": step, "seconds": seconds, "val_nll": best, "history": history,
+            "train_frames_per_s": step * preset["batch"] * (L - model.warmup) / max(seconds, 1e-9)}
+
+
+def train(ref: str, data: Path, out: Path, cfg: TrainConfig, args: dict[str, Any] | None = None,
+          report: Callable[[int, float, float | None], None] | None = None) -> dict[str, Any]:
+    """Train (or calibrate) model ``ref`` on ``data`` and write a checkpoint to ``out``."""
+    from voe.io.provenance import package_versions
+    from voe.models.checkpoint import save_checkpoint
+    from voe.models.loading import load_model, resolve
+
+    full, _ = resolve(ref)
+    train_b, val_b, sha = split_batches(data, cfg.val_frac, cfg.seed)
+    args = dict(args or {})
+    meta: dict[str, Any] = {"model": full, "seed": cfg.seed, "train_data": str(data),
+                            "train_manifest_sha256": sha, "n_train": len(train_b), "n_val": len(val_b),
+                            "versions": package_versions()}
+    from voe.models.torchbase import TorchModel
+
+    model = load_model(ref, {"seed": cfg.seed, **args} if _is_learned(full) else args)
+    if isinstance(model, TorchModel):
+        summary = fit(model, train_b, val_b, cfg, report)
+        model.layout = model.batch_layout(train_b)
+        meta.update(config=model.config_dict(), feature_layout=model.layout, **summary)
+        save_checkpoint(out, meta, model.weights())
+        return meta
+    if not hasattr(model, "calibrate"):
+        raise VoeError(f"model '{ref}' is neither trainable nor calibratable")
+    start = time.monotonic()
+    model.calibrate(train_b)
+    v = val_nll(model, val_b)
+    if report:
+        report(1, v, v)
+    meta.update(config=model.config(), feature_layout={"feature_names": list(train_b.feature_names)},
+                steps=1, seconds=time.monotonic() - start, val_nll=v, history=[])
+    save_checkpoint(out, meta)
+    return meta
+
+
+def _is_learned(full: str) -> bool:
+    from voe.models import MODELS
+
+    if ":" in full:
+        return False
+    return bool(MODELS.meta(full).get("learned"))

@@ -1,0 +1,213 @@
+"""Build a comparison report (markdown, html, csv, figures) from stored runs.
+
+Why from stored runs only: a report must be reproducible without the models, their weights or a
+GPU; the only other input is the probe set each run recorded, read for example frames.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import time
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from voe.errors import ProbeSetError
+from voe.io.atomic import atomic_dir
+from voe.report import render as R
+from voe.report.concepts import concept_name, describe
+from voe.report.filmstrip import save_figure
+from voe.scoring.metrics import TIE_RTOL
+from voe.scoring.runs import Run, load_runs
+from voe.scoring.table import concept_table, condition_table
+from voe.scoring.verdict import RULE
+
+CSV_COLUMNS = ("model", "concept", "n_sets", "accuracy", "ci_low", "ci_high", "p_value", "verdict",
+               "p_holm", "note", "relative_surprise", "pair_acc_max", "auroc")
+
+
+def _slug(text: str) -> str:
+    return re.sub(r"[^a-z0-9]+", "-", text.lower()).strip("-") or "x"
+
+
+def _example_frames(runs: Sequence[Run], set_ids: Sequence[str]) -> tuple[dict[str, np.ndarray], str]:
+    """Frames ``(n_clips, T, H, W)`` per set id, from the probe set recorded in the runs."""
+    from voe.io.probeset import load_probe_set
+
+    run = runs[0]
+    try:
+        ps = load_probe_set(run.probes_path)
+        if ps.manifest_sha256 != run.manifest_sha256:
+            return {}, (f"the probe set at {run.probes_path} has changed since scoring "
+                        "(manifest hash differs), so example frames are not shown")
+        out = {}
+        for sid in set_ids:
+            ids = run.clips.loc[run.clips["set_id"] == sid, "clip_id"].tolist()
+            out[sid] = ps.get(ids)["frames"]
+        return out, ""
+    except ProbeSetError as exc:
+        return {}, f"example frames are not shown: {exc}"
+
+
+def _publishable(root: Path) -> None:
+    """Give the report the usual permissions (temporary files are created owner-only)."""
+    mask = os.umask(0)
+    os.umask(mask)
+    for p in [root, *root.rglob("*")]:
+        p.chmod((0o777 if p.is_dir() else 0o666) & ~mask)
+
+
+def _describe_runs(runs: Sequence[Run]) -> pd.DataFrame:
+    rows = []
+    for r in runs:
+        m = r.meta["model"]
+        args = ", ".join(f"{k}={v}" for k, v in sorted((m.get("args") or {}).items()))
+        rows.append({"model": r.label, "ref": m.get("ref", ""), "args": args,
+                     "observation": m.get("observation", ""),
+                     "checkpoint sha256": (m.get("checkpoint_sha256") or "-")[:12],
+                     "clips": len(r.clips), "wall time (s)": r.meta.get("wall_time_s", ""),
+                     "run": r.path.name})
+    return pd.DataFrame(rows)
+
+
+def build_report(run_dirs: Sequence[str | Path], out: Path, title: str | None = None,
+                 n_boot: int = 10_000, seed: int = 0, overwrite: bool = False) -> pd.DataFrame:
+    """Write ``report.md``, ``report.html``, ``summary.csv``, ``conditions.csv`` and ``figures/``.
+
+    Raises:
+        RunError: no runs, a malformed or empty run, or runs from different probe sets.
+
+    Returns:
+        The summary table (one row per model x concept).
+    """
+    from voe.report import figures as F
+
+    runs = load_runs(run_dirs)
+    summary = concept_table(runs, n_boot=n_boot, seed=seed)
+    conditions = condition_table(runs, n_boot=n_boot, seed=seed)
+    concepts = sorted(summary["concept"].unique())
+    title = title or f"voe report: {len(runs)} model(s) x {len(concepts)} concept(s)"
+    ref = runs[0]
+    out = Path(out)
+    with atomic_dir(out, overwrite=overwrite) as tmp:
+        (tmp / "figures").mkdir()
+        summary[list(CSV_COLUMNS)].to_csv(tmp / "summary.csv", index=False, float_format="%.6g")
+        conditions.to_csv(tmp / "conditions.csv", index=False, float_format="%.6g")
+        save_figure(F.accuracy_heatmap(summary), tmp / "figures" / "accuracy_heatmap.png")
+        save_figure(F.accuracy_by_condition(conditions), tmp / "figures" / "accuracy_by_condition.png")
+        looking = []
+        for run in runs:
+            name = f"figures/looking_time_{_slug(run.label)}.png"
+            save_figure(F.looking_time(run, concepts), tmp / name)
+            looking.append(R.Figure(name, f"looking time of {run.label}"))
+        # One example set per concept (a visible violation if there is one), traced by the model
+        # with the best accuracy on that concept.
+        examples = {}
+        for concept in concepts:
+            sets = ref.clips[ref.clips["concept"] == concept].sort_values(
+                ["visible_violation", "set_id"], ascending=[False, True])
+            best = summary[summary["concept"] == concept].sort_values("accuracy", ascending=False, kind="stable")
+            examples[concept] = (str(sets["set_id"].iloc[0]), str(best["model"].iloc[0]))
+        frames, film_note = _example_frames(runs, [s for s, _ in examples.values()])
+        films = []
+        by_label = {r.label: r for r in runs}
+        for concept, (sid, model) in examples.items():
+            if sid in frames:
+                name = f"figures/filmstrip_{_slug(concept_name(concept))}.png"
+                save_figure(F.example_filmstrip(by_label[model], frames[sid], sid), tmp / name)
+                films.append(R.Figure(name, f"filmstrip {sid}", f"{concept}: set {sid}, traces of {model}."))
+        blocks = _blocks(title, runs, summary, conditions, concepts, looking, films, film_note)
+        (tmp / "report.md").write_text(R.to_markdown(blocks))
+        (tmp / "report.html").write_text(R.to_html(blocks, title, tmp))
+        _publishable(tmp)
+    return summary
+
+
+def _blocks(title, runs, summary, conditions, concepts, looking, films, film_note) -> list[R.Block]:
+    ref = runs[0]
+    show = summary.copy()
+    show["95% CI"] = [f"[{lo:.2f}, {hi:.2f}]" for lo, hi in zip(show["ci_low"], show["ci_high"], strict=True)]
+    show = show[["model", "concept", "n_sets", "accuracy", "95% CI", "p_value", "p_holm", "verdict", "note",
+                 "pair_acc_max", "relative_surprise", "auroc"]]
+    pooled = conditions[conditions["concept"] == "all"].copy()
+    pooled["95% CI"] = [f"[{lo:.2f}, {hi:.2f}]" for lo, hi in zip(pooled["ci_low"], pooled["ci_high"], strict=True)]
+    b: list[R.Block] = [
+        R.Heading(title, 1),
+        R.Para(f"Generated {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())} from {len(runs)} stored "
+               f"run(s) of the probe set `{ref.probes_path}` (manifest sha256 "
+               f"`{ref.manifest_sha256[:16]}`). Every number below is computed from the per-frame "
+               "surprise the runs stored; no model was run to make this report."),
+        R.Heading("How to read this report"),
+        R.Para("Each probe is a *matched set*: clips that are identical except that some show a physically "
+               "impossible event from an *onset* frame on. A model reads every clip frame by frame and "
+               "reports its *surprise* (negative log-likelihood of each frame given the past, in nats). "
+               "A model that has learned a concept is more surprised by the impossible clips, like an "
+               "infant who looks longer at an impossible event (violation of expectation). Quadruplets "
+               "are spliced so that the impossible pair holds exactly the frames of the possible pair: "
+               "a model that judges single frames cannot beat chance (0.5)."),
+        R.Heading("Concepts tested"),
+        R.Bullets(tuple(f"**{concept_name(c)}** (`{c}`): {describe(c) or 'no description available.'}"
+                        for c in concepts)),
+        R.Heading("Models"),
+        R.Table(_describe_runs(runs)),
+        R.Heading("Which model learned which concept"),
+        R.Figure("figures/accuracy_heatmap.png", "accuracy heatmap",
+                 "Rows are models, columns concepts. Colour and number: matched-set accuracy (blue = the "
+                 "model is more surprised by impossible events; white = chance, 0.5; red = reversed). "
+                 "Mark: the verdict."),
+        R.Table(show),
+        R.Heading("Metrics and verdict rule", 3),
+        R.Bullets((
+            "**accuracy** (matched-set, primary): per set 1 if the summed surprise of the impossible clips "
+            "exceeds that of the possible clips (quadruplet: S(AB)+S(BA) vs S(A)+S(B); pair: one clip vs "
+            f"the other), 0.5 on a tie (relative tolerance {TIE_RTOL:g}), 0 otherwise; averaged over "
+            "sets. Frames a model does not score are dropped from all clips of a set.",
+            "**95% CI**: percentile bootstrap over matched sets (10,000 resamples, seeded).",
+            "**p_value**: one-sided sign-flip permutation test within matched sets (which side is "
+            "impossible is swapped at random; exact for up to 16 sets); **p_holm**: Holm-adjusted "
+            "across the concepts of each model.",
+            "**pair_acc_max**: the same comparison on each clip's peak surprise, over every "
+            "(possible, impossible) clip pair of a set.",
+            "**relative_surprise**: mean over sets of (S_imp - S_pos) / (S_imp + S_pos).",
+            "**auroc**: probability that an impossible clip's total surprise exceeds a possible clip's, "
+            "over all clips of the concept regardless of set (ties 0.5); unlike accuracy it is hurt by "
+            "clips that are simply harder to predict.",
+            "**note**: *chance* when the CI contains 0.5, *reversed* when it lies entirely below 0.5.",
+        )),
+        R.Para("Verdict rule: " + RULE),
+        R.Heading("Looking time: surprise around the onset"),
+        R.Para("One figure per model, one column per concept; the x axis is the frame relative to the "
+               "violation onset (dashed line). Top: mean surprise per frame of possible (blue) and "
+               "impossible (red) clips, with a 95% band (1.96 standard errors over clips); the band is "
+               "wide when scenes differ in how hard they are to predict. Bottom: the *excess surprise*, "
+               "within each matched set the impossible clips' surprise minus the possible clips', "
+               "averaged over sets with a 95% band over sets. A model that has learned the concept shows "
+               "an excess near zero before the onset and above zero at or after it (its looking time "
+               "goes up). Below zero means the possible events surprise it more."),
+        *looking,
+        R.Heading("Accuracy by condition"),
+        R.Figure("figures/accuracy_by_condition.png", "accuracy by condition",
+                 "Left: sets whose violation happens in view vs behind an occluder. Right: sets by number "
+                 "of distractor objects. All concepts pooled; error bars are 95% bootstrap CIs; the "
+                 "dashed line is chance. A drop when occluded means the model detects visible glitches "
+                 "but does not track hidden objects; a drop with distractors means clutter confuses it."),
+        R.Table(pooled[["model", "condition_kind", "condition", "n_sets", "accuracy", "95% CI"]]),
+        R.Para("Per concept numbers are in `conditions.csv`."),
+        R.Heading("Example matched sets"),
+        R.Para("One set per concept (a visible violation when there is one). Each row is a clip, frames "
+               "left to right, the onset frame outlined in red; under each clip is its per-frame surprise "
+               "under the model with the best accuracy on that concept, on one y scale for the whole set. "
+               "Expect the impossible clips' traces (red) to rise at or after the onset."),
+        *films,
+    ]
+    if film_note:
+        b.append(R.Para(f"*Note:* {film_note}."))
+    versions = ref.meta.get("versions", {})
+    b += [R.Heading("Provenance"),
+          R.Para("Package versions of the first run: "
+                 + ", ".join(f"{k} {v}" for k, v in sorted(versions.items()))
+                 + ". Each run directory holds its own `run.json`.")]
+    return b
