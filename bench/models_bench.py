@@ -69,7 +69,7 @@ def main() -> None:
         ref = PAIRS.get(mid)
         refs = f"{ref.split('-v')[0]} {ref_nll[ref]:.2f}" if ref in ref_nll else ""
         better = "" if not refs else ("  better" if nll < ref_nll[ref] else "  WORSE")
-        print(f"{mid:<16} {tfps:>11.0f} {sfps:>11.0f} {nll:>10.2f} {refs:>22}{better}  {extra}")
+        print(f"{mid:<16} {tfps:>11.0f} {sfps:>11.0f} {nll:>10.2f} {refs:>22}{better}  {extra}", flush=True)
 
 
 if __name__ == "__main__":

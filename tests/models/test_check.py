@@ -5,12 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from tests.models import user_model
 from voe.errors import ModelContractError
 from voe.models import MODELS
 from voe.models.adapters import PointPredictorAdapter, TorchDistributionAdapter
 from voe.models.check import check_model
 from voe.models.loading import load_model
-from tests.models import user_model
 
 
 @pytest.mark.parametrize("model_id", MODELS.ids())

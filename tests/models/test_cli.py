@@ -23,7 +23,7 @@ def test_user_model_checked_by_reference(tiny_world):
 
 
 @pytest.mark.parametrize("ref, code, msg", [
-    ("tests.models.user_model:WrongShape", 2, "returned shape (6,)"),
+    ("tests.models.user_model:WrongShape", 2, "returned shape (20,), expected (B, T) = (6, 20)"),
     ("tests.models.user_model:NaNInside", 2, "NaN at clip 0, frame 5"),
     ("tests.models.user_model:Nothing", 1, "has no attribute 'Nothing'"),
     ("interactoin", 1, "did you mean 'interaction-v1'"),

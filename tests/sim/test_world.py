@@ -48,12 +48,17 @@ def test_copy_branches_keep_identical_futures():
     assert 0 not in b.bodies() and 0 in a.bodies()
 
 
-def test_passable_object_falls_through_floor():
-    def edit(world):
-        world.set_passable(0, statics=True, objects=False)
-
-    rec = simulate(Scene(bodies=(ball(y=2.0),), statics=(FLOOR,)), SimConfig(n_frames=20), {1: edit})
-    assert rec.exists[-1, 0] and rec.states[-1, 0, 1] < 0 or not rec.present[-1, 0]
+def test_passable_object_falls_through_floor_only_when_asked():
+    wall = Segment((3.0, 0.5), (3.0, 4.0), 0.1, kind="wall")
+    scene = Scene(bodies=(ball(y=2.0, vx=4.0),), statics=(FLOOR, wall))
+    cfg = SimConfig(n_frames=20)
+    ghost = simulate(scene, cfg, {1: lambda w: w.set_passable(0, statics=True, objects=False)})
+    x, y = ghost.states[-1, 0, 0], ghost.states[-1, 0, 1]
+    assert x > 3.5 and abs(y - 1.1) < 0.05  # through the wall, still on the floor
+    solid = simulate(scene, cfg)
+    assert solid.states[-1, 0, 0] < 3.0  # bounced off the wall
+    sinker = simulate(scene, cfg, {1: lambda w: w.set_passable(0, statics=True, floor=True)})
+    assert not sinker.present[-1, 0] or sinker.states[-1, 0, 1] < 0.0
 
 
 def test_subpixel_motion_changes_pixels():

@@ -88,3 +88,19 @@ def test_pass_through_objects_overlap(worlds):
 def test_unknown_counterfactual(tmp_path):
     with pytest.raises(UnknownNameError, match="did you mean 'gravity_off'"):
         generate_world(tmp_path / "x", 2, 0, CFG, counterfactual="gravity-off")
+
+
+def test_cli_generates_and_rejects_bad_counterfactual(tmp_path):
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[2]
+    run = [sys.executable, "-m", "voe", "world", "generate", "--n", "2", "--size", "32", "--frames", "12"]
+    r = subprocess.run([*run, "--out", str(tmp_path / "w"), "--counterfactual", "pass_through"],
+                       cwd=root, capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert load_probe_set(tmp_path / "w").manifest["counterfactual"] == "pass_through"
+    r = subprocess.run([*run, "--out", str(tmp_path / "x"), "--counterfactual", "no_gravity"],
+                       cwd=root, capture_output=True, text=True, timeout=120)
+    assert r.returncode == 1 and r.stderr.strip().startswith("voe: error: unknown counterfactual")

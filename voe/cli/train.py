@@ -33,10 +33,12 @@ def train(
     cfg = TrainConfig(steps=steps, minutes=minutes, device=device, seed=seed, val_frac=val_frac)
     from tqdm import tqdm
 
-    bar = tqdm(total=steps, desc=f"train {model}", unit="step", dynamic_ncols=True)
-    state = {"val": float("nan")}
+    state: dict = {"val": float("nan"), "bar": None}
 
     def report(step: int, loss: float, val: float | None) -> None:
+        if state["bar"] is None:  # created once the data has loaded, so errors stay one line
+            state["bar"] = tqdm(total=steps, desc=f"train {model}", unit="step", dynamic_ncols=True)
+        bar = state["bar"]
         if val is not None:
             state["val"] = val
         bar.update(1)
@@ -45,7 +47,8 @@ def train(
     try:
         meta = run(model, data, out, cfg, parse_kv(model_arg), report)
     finally:
-        bar.close()
+        if state["bar"] is not None:
+            state["bar"].close()
     typer.echo(f"wrote {out}: {meta['model']}, {meta['steps']} steps in {meta['seconds']:.0f} s, "
                f"validation NLL {meta['val_nll']:.3f} nats/frame")
 

@@ -1,7 +1,7 @@
 """Fit one candidate effect's parameters on training windows and score it on held-out windows.
 
 Why: every hypothesis is judged the same way. Parameters are fitted with
-``scipy.optimize.least_squares`` on multiple-shooting residuals standardised by the expected
+scipy (bounded Brent or Powell) on multiple-shooting residuals standardised by the expected
 residual of a correct model (so noise, not metres, sets the scale) with a soft-L1 loss that keeps
 a few chaotic windows from dominating. The verdict on a hypothesis is its held-out RMSE, never
 its training cost, so a flexible effect gains nothing by overfitting.
@@ -12,7 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import least_squares
+from scipy.optimize import minimize, minimize_scalar
 
 from voe.gap.effects.base import Effect, EffectSum, FitContext
 from voe.gap.shooting import Shooter, Window, rmse
@@ -20,10 +20,10 @@ from voe.gap.shooting import Shooter, Window, rmse
 
 @dataclass(frozen=True)
 class FitConfig:
-    """How hard to try. ``max_nfev`` bounds least-squares evaluations per candidate."""
+    """How hard to try. ``max_nfev`` bounds cost evaluations per candidate and parameter."""
 
-    max_nfev: int = 10
-    refine_nfev: int = 30
+    max_nfev: int = 12
+    refine_nfev: int = 20
     f_scale: float = 3.0  # soft-L1 knee, in units of the expected residual
 
 
@@ -35,6 +35,7 @@ class FitResult:
     params: np.ndarray
     train_cost: float
     heldout_rmse: float
+    window_sse: np.ndarray | None = None  # (W,) held-out squared error per window
 
 
 class Fitter:
@@ -64,29 +65,66 @@ class Fitter:
         """Held-out RMSE in metres (x, y and angle times sqrt(I/m))."""
         return rmse([self.shooter.residual(w, effect, params) for w in self.test])
 
+    def heldout_sse(self, effect: Effect | None, params: np.ndarray | None) -> np.ndarray:
+        """(W,) held-out sum of squared residuals per window (for the paired bootstrap)."""
+        return np.array([float(np.sum(self.shooter.residual(w, effect, params) ** 2)) for w in self.test])
+
     def cost(self, effect: Effect | None, params: np.ndarray | None) -> float:
         z = self.standardized(effect, params)
         fs = self.config.f_scale
         return float(np.sum(2 * fs**2 * (np.sqrt(1 + (z / fs) ** 2) - 1)))
 
     def fit(self, effect: Effect, starts: list[np.ndarray] | None = None, max_nfev: int | None = None) -> FitResult:
-        """Fit ``effect`` from the most promising of ``starts`` (default: the effect's own)."""
+        """Fit ``effect`` from the most promising of ``starts`` (default: the effect's own).
+
+        Why not Gauss-Newton: windows with collisions make the residual jump with the
+        parameters, and ``least_squares`` then rejects step after step. The soft-L1 cost is
+        smooth at the scale that matters, so a derivative-free search is both more reliable and
+        cheaper: a coarse grid plus bounded Brent for one parameter, bounded Powell in units of
+        each parameter's scale for several.
+        """
         if effect.n_params == 0:
             return FitResult(effect, np.zeros(0), self.cost(effect, np.zeros(0)), self.heldout(effect, np.zeros(0)))
+        nfev = max_nfev or self.config.max_nfev
         lo, hi = effect.bounds(self.ctx)
         scale = effect.scale(self.ctx)
         starts = list(starts) if starts is not None else effect.starts(self.ctx)
-        starts = [np.clip(s, lo + 1e-12 * scale, hi - 1e-12 * scale) for s in starts]
+        starts = [np.clip(s, lo, hi) for s in starts]
         if len(starts) > 1:  # pick the most promising start by training cost on a third of the windows
             sub = Fitter.__new__(Fitter)
             sub.__dict__.update(self.__dict__, train=self.train[::3], _weights=self._weights[::3])
             starts = [min(starts, key=lambda s: sub.cost(effect, s))]
-        res = least_squares(
-            lambda p: self.standardized(effect, p), starts[0], bounds=(lo, hi), x_scale=scale,
-            diff_step=0.05 * scale / np.maximum(1.0, np.abs(starts[0])), loss="soft_l1",
-            f_scale=self.config.f_scale, max_nfev=max_nfev or self.config.max_nfev, method="trf",
-        )
-        return FitResult(effect, res.x, float(2 * res.cost), self.heldout(effect, res.x))
+        x0 = starts[0]
+        if effect.n_params == 1:
+            x, cost = self._scalar(effect, x0, lo, hi, scale, nfev)
+        else:
+            x, cost = self._powell(effect, x0, lo, hi, scale, nfev)
+        sse = self.heldout_sse(effect, x)
+        return FitResult(effect, x, cost, float(np.sqrt(sse.sum() / self._n_test)), sse)
+
+    @property
+    def _n_test(self) -> int:
+        return sum((w.k1 - w.k0 + 1) * self.shooter.scale.size for w in self.test)
+
+    def _scalar(self, effect, x0, lo, hi, scale, nfev) -> tuple[np.ndarray, float]:
+        grid = np.unique(np.clip(x0[0] + scale[0] * np.array([-3.0, -1.0, 0.0, 1.0, 3.0, 10.0]), lo[0], hi[0]))
+        costs = [self.cost(effect, np.array([g])) for g in grid]
+        i = int(np.argmin(costs))
+        a, b = grid[max(i - 1, 0)], grid[min(i + 1, len(grid) - 1)]
+        if b - a <= 0:
+            return np.array([grid[i]]), float(costs[i])
+        res = minimize_scalar(lambda v: self.cost(effect, np.array([v])), bounds=(a, b), method="bounded",
+                              options={"maxiter": max(3, nfev - len(grid)), "xatol": 0.01 * scale[0]})
+        if res.fun < costs[i]:
+            return np.array([res.x]), float(res.fun)
+        return np.array([grid[i]]), float(costs[i])
+
+    def _powell(self, effect, x0, lo, hi, scale, nfev) -> tuple[np.ndarray, float]:
+        lo_u, hi_u = lo / scale, hi / scale
+        res = minimize(lambda u: self.cost(effect, np.clip(u, lo_u, hi_u) * scale), x0 / scale, method="Powell",
+                       bounds=list(zip(lo_u, hi_u, strict=True)),
+                       options={"maxfev": max(nfev * effect.n_params, 40), "xtol": 0.01, "ftol": 1e-4})
+        return np.clip(res.x, lo_u, hi_u) * scale, float(res.fun)
 
 
 def extend(current: Effect | None, params: np.ndarray, cand: Effect, ctx: FitContext) -> tuple[Effect, list[np.ndarray]]:

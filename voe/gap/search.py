@@ -18,6 +18,21 @@ from voe.gap.effects.base import Effect, EffectSum
 from voe.gap.fit import FitResult, Fitter, extend
 
 GROUP_TOL = 0.10  # held-out RMSE within 10 % of the winner's counts as indistinguishable
+N_BOOT = 400
+
+
+def gain_lower_bound(before_sse: np.ndarray, after_sse: np.ndarray | None, seed: int = 0) -> float:
+    """5th percentile of the held-out gain under a paired bootstrap over held-out windows.
+
+    Why: with few held-out windows one lucky window can carry a spurious gain; requiring the
+    gain to stay positive when windows are resampled guards against that.
+    """
+    if after_sse is None or before_sse.size == 0:
+        return 0.0
+    rng = np.random.default_rng(seed)
+    idx = rng.integers(0, before_sse.size, size=(N_BOOT, before_sse.size))  # (N_BOOT, W)
+    gains = 1.0 - np.sqrt(after_sse[idx].sum(axis=1) / np.maximum(before_sse[idx].sum(axis=1), 1e-300))
+    return float(np.quantile(gains, 0.05))
 
 
 @dataclass
@@ -29,6 +44,7 @@ class Round:
     gains: dict[str, float]
     winner: str | None = None
     group: list[str] = field(default_factory=list)
+    lower: dict[str, float] = field(default_factory=dict)
 
 
 def candidate_gains(fitter: Fitter, candidates: dict[str, Effect], current: Effect | None,
@@ -47,15 +63,18 @@ def candidate_gains(fitter: Fitter, candidates: dict[str, Effect], current: Effe
 
 
 def choose(gains: dict[str, float], results: dict[str, FitResult], candidates: dict[str, Effect],
-           contexts: set[str], threshold: float) -> tuple[str | None, list[str]]:
-    """Winner and its indistinguishable group, or (None, []) if no gain beats ``threshold``."""
+           contexts: set[str], threshold: float, lower: dict[str, float] | None = None) -> tuple[str | None, list[str]]:
+    """Winner and its indistinguishable group among candidates whose gain beats ``threshold``
+    and whose bootstrap lower bound ``lower`` is positive; (None, []) if there are none."""
     if not gains:
         return None, []
-    best = max(gains, key=lambda k: gains[k])
-    if gains[best] <= threshold:
+    lower = lower or {}
+    eligible = {k: g for k, g in gains.items() if g > threshold and lower.get(k, 1.0) > 0}
+    if not eligible:
         return None, []
+    best = max(eligible, key=lambda k: eligible[k])
     floor = results[best].heldout_rmse
-    group = [k for k in gains if gains[k] > threshold and results[k].heldout_rmse <= floor * (1 + GROUP_TOL)]
+    group = [k for k in eligible if results[k].heldout_rmse <= floor * (1 + GROUP_TOL)]
 
     def rank(k: str) -> tuple[int, float]:
         ctx_match = any(c in contexts for c in candidates[k].contexts)
@@ -75,19 +94,21 @@ def greedy(fitter: Fitter, candidates: dict[str, Effect], threshold: float, max_
     current: Effect | None = None
     params = np.zeros(0)
     before = fitter.heldout(None, None)
+    before_sse = fitter.heldout_sse(None, None)
     rounds: list[Round] = []
     pool = dict(candidates)
     for _ in range(max_effects):
         results, gains = candidate_gains(fitter, pool, current, params, before, progress)
-        winner, group = choose(gains, results, pool, contexts, threshold)
-        rounds.append(Round(before, results, gains, winner, group))
+        lower = {k: gain_lower_bound(before_sse, r.window_sse) for k, r in results.items()}
+        winner, group = choose(gains, results, pool, contexts, threshold, lower)
+        rounds.append(Round(before, results, gains, winner, group, lower))
         if winner is None:
             break
         res = fitter.fit(results[winner].effect, [results[winner].params], fitter.config.refine_nfev)
         if res.heldout_rmse > results[winner].heldout_rmse:
             res = results[winner]
         results[winner] = res
-        current, params, before = res.effect, res.params, res.heldout_rmse
+        current, params, before, before_sse = res.effect, res.params, res.heldout_rmse, res.window_sse
         for k in group:  # members of the winner's group explain the same thing
             pool.pop(k, None)
         if not pool:

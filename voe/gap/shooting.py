@@ -39,13 +39,16 @@ def local_state(ep: Episode, k: int, half: int | None = None) -> tuple[np.ndarra
         error: var(v) ~ sigma^2 / sum dt^2).
     """
     half = HALF if half is None else half
-    lo, hi = max(0, k - half), min(len(ep.t), k + half + 1)
+    n = min(len(ep.t), max(2 * half + 1, ORDER + 3))  # one-sided at the ends, never too few samples
+    lo = min(max(0, k - n // 2), len(ep.t) - n)
+    hi = lo + n
     tt = ep.t[lo:hi] - ep.t[k]  # (N,)
     y = ep.pose[lo:hi].reshape(hi - lo, -1)  # (N, B*3)
-    coef = np.polyfit(tt, y, ORDER)  # (ORDER+1, B*3)
+    span = max(float(np.max(np.abs(tt))), 1e-9)  # scale time to [-1, 1] so the fit is well conditioned
+    coef = np.polyfit(tt / span, y, ORDER)  # (ORDER+1, B*3)
     b = ep.pose.shape[1]
     sxx = float(np.sum((tt - tt.mean()) ** 2))
-    return coef[-1].reshape(b, 3), coef[-2].reshape(b, 3), sxx
+    return coef[-1].reshape(b, 3), coef[-2].reshape(b, 3) / span, sxx
 
 
 def noise_floor(episodes: list[Episode]) -> np.ndarray:
@@ -163,9 +166,11 @@ def choose_half(scene: SceneSpec, episodes: list[Episode], windows: list[Window]
 
     Why: a wide fit averages noise away but biases the speed of fast, curving motion; on clean
     encoder data +-2 samples is best, on 1 mm noise about +-8. The median window RMSE of the
-    nominal model picks the trade-off from the data itself.
+    nominal model over the first 10 samples after each window start picks the trade-off from the
+    data itself; the horizon is short so a missing effect (which grows like t^2) cannot bias the
+    choice toward a velocity fit that mimics it.
     """
-    sample = windows[:: max(1, len(windows) // 24)]
+    sample = [Window(w.ep, w.k0, min(w.k1, w.k0 + 10)) for w in windows[:: max(1, len(windows) // 40)]]
     scores = []
     for h in options:
         sh = Shooter(scene, episodes, substep, h)

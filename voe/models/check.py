@@ -52,8 +52,11 @@ def check_model(model: Any, batch: Batch) -> None:
     if np.isinf(full).any():
         b, t = np.argwhere(np.isinf(full))[0]
         raise ModelContractError(f"model '{name}': infinite surprise at clip {b}, frame {t}")
-    if (nan != nan[:1]).any():
-        b, t = np.argwhere(nan != nan[:1])[0]
+    mixed = nan.any(0) & ~nan.all(0)  # (T,) frames NaN in some clips only
+    if mixed.any():
+        t = int(np.argmax(mixed))
+        majority = nan[:, t].mean() > 0.5
+        b = int(np.argmax(nan[:, t] != majority))
         raise ModelContractError(f"model '{name}': NaN at clip {b}, frame {t} but not in every clip; "
                                  f"NaN is only allowed for the same warm-up frames in every clip")
     cols = nan[0]

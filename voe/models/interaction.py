@@ -3,7 +3,7 @@
 Why: physical expectations are about objects, so each slot is encoded on its own (its memory:
 last seen state carried forward while hidden, its nearest static segments, whether it should be
 visible next frame; see ``voe.models.features``), objects exchange messages along all pairs
-(relative position, velocity and the gap between them), and each slot predicts its own next
+(relative position and velocity, the gap between them and the frames until they touch), and each slot predicts its own next
 state (``voe.models.state_head``). Teacher-forced on the true past, one step ahead.
 
 References: Battaglia et al. 2016, "Interaction Networks for Learning about Objects, Relations
@@ -24,8 +24,6 @@ from voe.models.mlp import to_tensors
 from voe.models.state_head import OUT, StateHead, state_nll
 from voe.models.torchbase import TorchModel
 
-REL = 7  # dx, dy, dvx, dvy, distance, gap, other-known
-
 
 @dataclass(frozen=True)
 class InteractionConfig:
@@ -42,26 +40,18 @@ class InteractionModule(nn.Module):
         super().__init__()
         h = c.hidden
         self.node = mlp(ft.D, h, h)
-        self.edge = mlp(2 * h + REL, h, h)
+        self.edge = mlp(2 * h + ft.REL, h, h)
         self.out = mlp(2 * h + ft.D, h, OUT)
-        self.head = StateHead(1)
+        self.head = StateHead()
         nn.init.zeros_(self.out[-1].weight)  # untrained = the same prediction for every input
         nn.init.zeros_(self.out[-1].bias)
 
-    def forward(self, x: torch.Tensor) -> torch.Tensor:
-        # x: (B, T, K, D)
+    def forward(self, x: torch.Tensor, rel: torch.Tensor) -> torch.Tensor:
+        # x: (B, T, K, D); rel: (B, T, K, K, REL) with [k, j] = other j seen from k
         B, T, K, D = x.shape
         h = self.node(x)  # (B, T, K, H)
-        pos, vel, known = x[..., 0:2] * 10, x[..., 4:6] * 5, x[..., 12:13]
-        size = torch.maximum(x[..., 8:9], x[..., 9:10]) / 2
-        dp = pos[:, :, None] - pos[:, :, :, None]  # (B, T, K, K, 2): other j minus self k
-        dv = vel[:, :, None] - vel[:, :, :, None]
-        dist = dp.norm(dim=-1, keepdim=True)
-        gap = dist - size[:, :, None] - size[:, :, :, None]
-        kj = known[:, :, None].expand(B, T, K, K, 1)
-        rel = torch.cat([dp / 5, dv / 5, dist / 5, gap.clamp(-1, 3), kj], -1)  # (B, T, K, K, REL)
         pair = torch.cat([h[:, :, :, None].expand(B, T, K, K, -1), h[:, :, None].expand(B, T, K, K, -1), rel], -1)
-        mask = kj * (1 - torch.eye(K, dtype=x.dtype))[:, :, None]  # no self-messages
+        mask = rel[..., -1:]  # other known (zero on the diagonal)
         msg = (self.edge(pair) * mask).sum(3)  # (B, T, K, H)
         return self.out(torch.cat([h, msg, x], -1))  # (B, T, K, OUT)
 
@@ -82,7 +72,7 @@ class InteractionNet(TorchModel):
         return to_tensors(batch)
 
     def nll(self, d: dict[str, torch.Tensor]) -> torch.Tensor:
-        return state_nll(self.net(d["x"][:, :-1]), self.net.head, d)
+        return state_nll(self.net(d["x"][:, :-1], d["rel"][:, :-1]), self.net.head, d)
 
     def batch_layout(self, batch: Batch) -> dict[str, Any]:
         return ft.layout(batch)

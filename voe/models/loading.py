@@ -30,11 +30,12 @@ def resolve(ref: str) -> tuple[str, Any]:
 
 
 def _construct(ref: str, factory: Any, args: dict[str, Any]) -> Any:
-    if not callable(factory) or not (inspect.isclass(factory) or inspect.isfunction(factory)
-                                     or inspect.ismethod(factory) or hasattr(factory, "__call__")):
-        raise UnknownNameError(f"'{ref}' is neither a model class nor a factory")
-    if not inspect.isclass(factory) and hasattr(factory, "frame_nll") and not args:
-        return factory  # already a model instance
+    if not inspect.isclass(factory) and hasattr(factory, "frame_nll"):
+        if args:
+            raise VoeError(f"'{ref}' is a model instance; it takes no --model-arg ({sorted(args)})")
+        return factory  # already a model
+    if not callable(factory):
+        raise UnknownNameError(f"'{ref}' is neither a model class, a factory nor a model")
     try:
         return factory(**args)
     except TypeError as exc:

@@ -35,7 +35,7 @@ class FlatNet(nn.Module):
         for a, b in zip(dims[:-1], dims[1:], strict=True):
             mods += [nn.Linear(a, b), nn.SiLU()]
         self.body = nn.Sequential(*mods, nn.Linear(c.hidden, c.n_slots * OUT))
-        self.head = StateHead(c.n_slots)
+        self.head = StateHead()
         nn.init.zeros_(self.body[-1].weight)  # untrained = the same prediction for every input
         nn.init.zeros_(self.body[-1].bias)
         self.k = c.n_slots

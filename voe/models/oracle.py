@@ -51,6 +51,7 @@ class PhysicsOracle(PointPredictorAdapter):
         """Predictions ``(T, K, F)`` (NaN for unknown slots) and P(present) ``(T, K)``."""
         T, K, F = states.shape
         ix = {n: i for i, n in enumerate(names)}
+        geo = self._geometry(geo)
         statics, occluders = geometry_from_dict(geo)
         gravity = tuple(geo.get("gravity", (0.0, -9.81)))
         extent = tuple(geo.get("extent", (10.0, 10.0)))
@@ -64,7 +65,7 @@ class PhysicsOracle(PointPredictorAdapter):
                 continue
             scene = Scene(tuple(self._body(k, cur[k], ix) for k in known), statics, occluders,
                           gravity, extent)
-            world = World(scene, dt, self.substeps)
+            world = self._world(scene, dt)
             world.step()
             nxt = world.observe(K).astype(np.float64)
             vis = visible_slots(world, scene)
@@ -72,7 +73,21 @@ class PhysicsOracle(PointPredictorAdapter):
                 cur[k] = nxt[k]
                 pvis[t + 1, k] = self.p_visible if vis[k] else 1 - self.p_visible
             pred[t + 1] = cur
+            cur[self._forget(present[t + 1])] = np.nan
         return pred, pvis
+
+    # -- hooks for lesioned variants (voe.controls.lesions) ---------------------------------
+    def _geometry(self, geo: dict[str, Any]) -> dict[str, Any]:
+        """The clip geometry the oracle simulates in (a lesion may drop gravity or statics)."""
+        return geo
+
+    def _world(self, scene: Scene, dt: float) -> World:
+        """The world that predicts one frame ahead (a lesion may change its laws)."""
+        return World(scene, dt, self.substeps)
+
+    def _forget(self, present_t: np.ndarray) -> np.ndarray:
+        """Slots whose memory is dropped after frame t, ``(K,)`` bool: none for the intact oracle."""
+        return np.zeros_like(present_t)
 
     def _predict(self, batch: Batch):
         if len(batch.geometry) != len(batch):
@@ -91,8 +106,3 @@ class PhysicsOracle(PointPredictorAdapter):
         circ = np.zeros(kind.shape, dtype=bool)
         circ[:, 1:] = pred[:, 1:, :, names.index("is_circle")] > 0.5
         return pred[..., idx], kind, circ, pp
-
-    def calibrate(self, batch: Batch) -> sl.Noise:
-        mean, kind, circ, _ = self._predict(batch)
-        self.noise = sl.fit_noise(batch, mean, kind, circ)
-        return self.noise

@@ -9,8 +9,8 @@ Gaussian over the nine continuous features. Both networks emit ``OUT = 17`` numb
     7-15   log-variance of the nine features (bounded to [-14, 5])
     16     shape logit (circle)
 
-The mean is ``bias + skip([constant-velocity guess, memory]) + correction``. The linear ``skip``
-and the networks' last layers start at zero, so an *untrained* model predicts the same
+The mean is ``c + g * (guess - c) + correction`` (see ``StateHead``). The gates ``g`` and the
+networks' last layers start at zero, so an *untrained* model predicts the same
 distribution for every object whatever it saw: a frame-only scorer, which ties exactly on spliced
 matched sets (chance). Whatever a trained model knows, even "things keep moving", it learned. Never-seen slots go through the same head (their inputs are
 zero and flagged unknown), so appearing and tracked objects are not treated differently by design.
@@ -23,6 +23,8 @@ import math
 import torch
 from torch import nn
 
+from voe.models.statelik import OUTLIER, QUANTUM, WIDE
+
 OUT = 17
 LOG2PI = math.log(2 * math.pi)
 DELTA_SCALE = (0.1, 0.1, 0.1, 1.0, 1.0, 1.0)
@@ -30,33 +32,51 @@ TYPICAL = (5.0, 3.0, 0.0, 0.0, 0.0, 0.0, 0.9, 0.9, 0.8)
 
 
 class StateHead(nn.Module):
-    """Zero-initialised linear skip from the remembered state to the predicted mean.
+    """Per-feature gates from the remembered state to the predicted mean, starting closed.
 
-    Args:
-        n_slots: slots mixed by the skip; 1 means one skip shared by every slot (object-centric),
-            K means one skip over all slots flattened (no object structure).
+    ``mean_f = c_f + g_f * (guess_f - c_f)`` where ``guess`` is the constant-velocity guess for
+    the dynamic features and the remembered value for the look, and ``g = GAIN * theta`` with
+    ``theta`` zero at initialisation (``GAIN`` lets Adam open a gate in ~100 steps).
     """
 
-    def __init__(self, n_slots: int = 1) -> None:
+    GAIN = 5.0
+
+    def __init__(self) -> None:
         super().__init__()
-        self.n = n_slots
-        self.skip = nn.Linear(18 * n_slots, 9 * n_slots)
-        nn.init.zeros_(self.skip.weight)
-        with torch.no_grad():
-            self.skip.bias.copy_(torch.tensor(TYPICAL).repeat(n_slots))
+        self.c = nn.Parameter(torch.tensor(TYPICAL))
+        self.theta = nn.Parameter(torch.zeros(9))
         self.shape_gain = nn.Parameter(torch.zeros(()))
 
     def mean(self, base: torch.Tensor, mem: torch.Tensor) -> torch.Tensor:
         # base, mem: (B, T, K, 9) -> (B, T, K, 9)
-        B, T, K, _ = base.shape
-        z = torch.cat([base, mem], -1)  # (B, T, K, 18)
-        if self.n == 1:
-            return self.skip(z)
-        return self.skip(z.reshape(B, T, K * 18)).reshape(B, T, K, 9)
+        guess = torch.cat([base[..., :6], mem[..., 6:]], -1)
+        return self.c + self.GAIN * self.theta * (guess - self.c)
 
 
 def bounded_logvar(raw: torch.Tensor) -> torch.Tensor:
     return -4.5 + 9.5 * torch.tanh(raw / 9.5)
+
+
+def cell_nll(r: torch.Tensor, logvar: torch.Tensor) -> torch.Tensor:
+    """``-log P(cell)`` per feature of residual ``r`` under the robust mixture of
+    ``N(0, exp(logvar))`` and the outlier component (torch twin of ``statelik.gaussian_nll``)."""
+    wide = r.new_tensor(WIDE).expand_as(r)
+    narrow = _cell_logp(r, torch.exp(0.5 * logvar))
+    logp = torch.logaddexp(math.log1p(-OUTLIER) + narrow, math.log(OUTLIER) + _cell_logp(r, wide))
+    return -torch.clamp(logp, max=0.0)
+
+
+def _cell_logp(r: torch.Tensor, sd: torch.Tensor) -> torch.Tensor:
+    q = r.new_tensor(QUANTUM)
+    logvar = 2 * torch.log(sd)
+    lo, hi = (r - q / 2) / sd, (r + q / 2) / sd
+    flip = lo > 0
+    lo, hi = torch.where(flip, -hi, lo), torch.where(flip, -lo, hi)
+    lh, ll = torch.special.log_ndtr(hi), torch.special.log_ndtr(lo)
+    d = torch.clamp(ll - lh, max=-1e-6)
+    exact = lh + torch.log(-torch.expm1(d))
+    dens = -0.5 * (r * r * torch.exp(-logvar) + logvar + LOG2PI) + torch.log(q)
+    return torch.clamp(torch.where(ll - lh > -1e-6, dens, exact), max=0.0)
 
 
 def state_nll(out: torch.Tensor, head: StateHead, d: dict[str, torch.Tensor]) -> torch.Tensor:
@@ -77,7 +97,7 @@ def state_nll(out: torch.Tensor, head: StateHead, d: dict[str, torch.Tensor]) ->
     logvar = bounded_logvar(out[..., 7:16])
     r = obs - mean
     r = torch.cat([r[..., :2], torch.remainder(r[..., 2:3] + math.pi, 2 * math.pi) - math.pi, r[..., 3:]], -1)
-    gauss = 0.5 * (r * r * torch.exp(-logvar) + logvar + LOG2PI).sum(-1)  # (B, T-1, K)
+    gauss = cell_nll(r, logvar).sum(-1)  # (B, T-1, K)
     circ_mem = d["circle"][:, :-1].float() * known.float()
     shape_logit = out[..., 16] + head.shape_gain * (2 * circ_mem - 1) * known.float()
     shape = nn.functional.binary_cross_entropy_with_logits(shape_logit, d["circle"][:, 1:].float(), reduction="none")

@@ -1,15 +1,19 @@
 """The state observation space and its likelihood, shared by every state model.
 
 Observation space of one frame: for each of the K slots either *absent*, or *present* with a
-shape in {circle, box} and the continuous features ``CONT`` in R^9. A state model predicts, per
-slot, a presence probability, a shape probability and a diagonal Gaussian over ``CONT``; the
-frame's surprise is the sum over slots of
+shape in {circle, box} and the continuous features ``CONT`` quantised to the grid ``QUANTUM``
+(0.01 scene units for positions, a fifth of a pixel). A state model predicts, per slot, a presence
+probability, a shape probability and a diagonal Gaussian over ``CONT``, integrated over each
+observed value's grid cell; the frame's surprise is the sum over slots of
 
-    -log P(present) [- log P(shape) - log N(cont; mu, sigma^2)]   (bracket only when present)
+    -log P(present) [- log P(shape) - sum_f log P(cell_f; mu_f, sigma_f)]   (bracket only when present)
 
-which is a normalised density over that space (counting measure on presence and shape, Lebesgue
-on ``CONT``). The angle residual is wrapped to (-pi, pi]; with sigma << pi the wrapped Gaussian's
-missing tail mass is negligible. ``is_box`` is ``1 - is_circle`` and is therefore not scored.
+a normalised distribution over a discrete space, so every term is >= 0. Each Gaussian carries a
+1% outlier component (``WIDE``) so that one mispredicted contact cannot dominate a clip. Why discrete: with a
+density, a well-predicted visible object earns a *negative* surprise (tens of nats) that an
+absent one does not, so clips would differ in surprise merely by how long objects are in view.
+The angle residual is wrapped to (-pi, pi] (negligible tail mass for sigma << pi). ``is_box`` is
+``1 - is_circle`` and is therefore not scored.
 
 Memory: each slot carries its last observed state forward while it is absent (``carry``), so an
 object that reappears from behind a screen is scored against where it should be now.
@@ -27,6 +31,11 @@ from voe.io.batch import Batch
 
 CONT = ("x", "y", "angle", "vx", "vy", "omega", "width", "height", "intensity")
 CONSTANT = ("width", "height", "intensity")  # an object's look never changes
+#: Resolution of the state observation space per ``CONT`` feature.
+QUANTUM = (0.01, 0.01, 0.01, 0.05, 0.05, 0.05, 0.01, 0.01, 0.01)
+#: Robust outlier component of every state Gaussian: weight and scale per ``CONT`` feature.
+OUTLIER = 0.01
+WIDE = (1.0, 1.0, 1.0, 3.0, 3.0, 3.0, 0.3, 0.3, 0.3)
 LOG2PI = float(np.log(2 * np.pi))
 #: Slot kinds of a prediction: tracked (present last frame), returning (seen before, absent last
 #: frame) and new (never seen).
@@ -121,8 +130,38 @@ def residuals(obs: np.ndarray, mean: np.ndarray) -> np.ndarray:
 
 
 def gaussian_nll(r: np.ndarray, sigma: np.ndarray) -> np.ndarray:
-    """Summed over the last axis: ``-log N(r; 0, sigma^2)``."""
-    return (0.5 * (r / sigma) ** 2 + np.log(sigma) + 0.5 * LOG2PI).sum(-1)
+    """Summed over the last axis: ``-log P(cell)`` of residual ``r`` under the robust mixture
+    ``(1 - OUTLIER) N(0, sigma^2) + OUTLIER N(0, WIDE^2)``, per feature.
+
+    Why the mixture: one confidently mispredicted contact would otherwise cost thousands of
+    nats and dominate every average; the outlier component caps a wrong feature at roughly
+    ``log(1 / OUTLIER) + log(WIDE / QUANTUM)`` nats (about 9 to 12) unless it is far off.
+    """
+    return -cell_logp(r, sigma).sum(-1)
+
+
+def cell_logp(r: np.ndarray, sigma: np.ndarray) -> np.ndarray:
+    """Per feature ``log P(cell)`` under the robust mixture (see ``gaussian_nll``)."""
+    narrow = _cell_logp(r, np.broadcast_to(sigma, r.shape))
+    wide = _cell_logp(r, np.broadcast_to(np.asarray(WIDE), r.shape))
+    return np.minimum(np.logaddexp(np.log1p(-OUTLIER) + narrow, np.log(OUTLIER) + wide), 0.0)
+
+
+def _cell_logp(r: np.ndarray, sigma: np.ndarray) -> np.ndarray:
+    """``log P(cell)`` per feature, cell ``r +- QUANTUM / 2`` under ``N(0, sigma^2)``; log-CDFs
+    keep far tails finite, density times width is used where the cell is tiny against sigma."""
+    from scipy.special import log_ndtr
+
+    q = np.asarray(QUANTUM)
+    lo, hi = (r - q / 2) / sigma, (r + q / 2) / sigma
+    flip = lo > 0  # use the lower tail, where log_ndtr is accurate
+    lo, hi = np.where(flip, -hi, lo), np.where(flip, -lo, hi)
+    lh, ll = log_ndtr(hi), log_ndtr(lo)
+    d = np.minimum(ll - lh, 0.0)
+    with np.errstate(divide="ignore"):
+        exact = lh + np.log(-np.expm1(d))
+    dens = -(0.5 * (r / sigma) ** 2 + np.log(sigma) + 0.5 * LOG2PI) + np.log(q)
+    return np.minimum(np.where(d > -1e-6, dens, exact), 0.0)
 
 
 def score(batch: Batch, mean: np.ndarray, kind: np.ndarray, noise: Noise,

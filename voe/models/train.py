@@ -99,6 +99,7 @@ def fit(model: Any, train: Batch, val: Batch, cfg: TrainConfig,
         torch.nn.utils.clip_grad_norm_(model.net.parameters(), 10.0)
         opt.step()
         step += 1
+        loss = loss.item()
         v = None
         last = step >= steps or time.monotonic() >= deadline
         if step % cfg.eval_every == 0 or last:

@@ -74,7 +74,8 @@ def _describe_runs(runs: Sequence[Run]) -> pd.DataFrame:
 
 
 def build_report(run_dirs: Sequence[str | Path], out: Path, title: str | None = None,
-                 n_boot: int = 10_000, seed: int = 0, overwrite: bool = False) -> pd.DataFrame:
+                 n_boot: int = 10_000, seed: int = 0, overwrite: bool = False,
+                 validity: Path | None = None) -> pd.DataFrame:
     """Write ``report.md``, ``report.html``, ``summary.csv``, ``conditions.csv`` and ``figures/``.
 
     Raises:
@@ -120,10 +121,28 @@ def build_report(run_dirs: Sequence[str | Path], out: Path, title: str | None = 
                 save_figure(F.example_filmstrip(by_label[model], frames[sid], sid), tmp / name)
                 films.append(R.Figure(name, f"filmstrip {sid}", f"{concept}: set {sid}, traces of {model}."))
         blocks = _blocks(title, runs, summary, conditions, concepts, looking, films, film_note)
+        if validity is not None:
+            blocks[-2:-2] = _validity_blocks(Path(validity), tmp)
         (tmp / "report.md").write_text(R.to_markdown(blocks))
         (tmp / "report.html").write_text(R.to_html(blocks, title, tmp))
         _publishable(tmp)
     return summary
+
+
+def _validity_blocks(validity: Path, tmp: Path) -> list[R.Block]:
+    """The "Is the suite valid?" section from a ``voe validate-suite`` output directory."""
+    import shutil
+
+    from voe.errors import RunError
+    from voe.report.validity import validity_blocks
+
+    path = validity / "matrix.csv"
+    if not path.exists():
+        raise RunError(f"{path} is missing; run `voe validate-suite --out {validity}` first")
+    matrix = pd.read_csv(path)
+    matrix["as_declared"] = matrix["as_declared"].map({True: True, False: False, "True": True, "False": False})
+    shutil.copy(validity / "figures" / "specificity.png", tmp / "figures" / "specificity.png")
+    return validity_blocks(matrix, "figures/specificity.png")
 
 
 def _blocks(title, runs, summary, conditions, concepts, looking, films, film_note) -> list[R.Block]:

@@ -29,7 +29,7 @@ from voe import __version__
 from voe.errors import ModelContractError
 from voe.io.atomic import atomic_dir
 from voe.io.probeset import ProbeSet, load_probe_set
-from voe.io.provenance import package_versions, sha256_file
+from voe.io.provenance import package_versions, sha256_path
 
 RUN_SCHEMA_VERSION = 1
 #: Index columns copied into ``clips.parquet`` (geometry is bulky and only models need it).
@@ -140,7 +140,7 @@ def score_probe_set(model: Any, probes: ProbeSet | str | Path, out: Path, *, mod
                   "args": dict(model_args or {}), "name": name,
                   "observation": str(getattr(model, "observation", "")),
                   "checkpoint": str(checkpoint) if checkpoint else None,
-                  "checkpoint_sha256": sha256_file(Path(checkpoint)) if checkpoint else None},
+                  "checkpoint_sha256": sha256_path(Path(checkpoint)) if checkpoint else None},
         "probes": {"path": str(Path(ps.path).resolve()), "manifest_sha256": ps.manifest_sha256,
                    "concepts": list(ps.manifest.get("concepts", [])), "n_clips": N, "n_frames": T},
         "batch_size": batch_size, "wall_time_s": round(wall, 3),

@@ -210,7 +210,7 @@ class SimWorld:
         out = np.empty((len(times), len(self.bodies), 3))
         out[0] = self.pose()
         k_kick = max(1, round(kick_every / substep))
-        bodies, step = self.bodies, self.space.step
+        step = self.space.step
         count = 0
         for k in range(1, len(times)):
             n = max(1, round((times[k] - times[k - 1]) / substep))

@@ -15,8 +15,10 @@ import pymunk
 
 from voe.sim.scene import N_FEATURES, Body, Scene, Segment
 
-STATIC_CAT = 0b01
-OBJECT_CAT = 0b10
+STATIC_CAT = 0b001  # walls, shelves, ramps
+OBJECT_CAT = 0b010
+FLOOR_CAT = 0b100  # the ground: separate, so "pass through walls" can keep objects on the floor
+ALL_CATS = STATIC_CAT | OBJECT_CAT | FLOOR_CAT
 
 
 def _make_body(spec: Body) -> tuple[pymunk.Body, pymunk.Shape]:
@@ -36,7 +38,7 @@ def _make_body(spec: Body) -> tuple[pymunk.Body, pymunk.Shape]:
     body.angular_velocity = spec.omega
     shape.friction = spec.friction
     shape.elasticity = spec.elasticity
-    shape.filter = pymunk.ShapeFilter(categories=OBJECT_CAT, mask=STATIC_CAT | OBJECT_CAT)
+    shape.filter = pymunk.ShapeFilter(categories=OBJECT_CAT, mask=ALL_CATS)
     body.voe_spec = spec  # survives Space.copy(); gives slot, shape and look
     body.voe_gravity = True
     return body, shape
@@ -72,7 +74,8 @@ class World:
         shape = pymunk.Segment(self.space.static_body, seg.a, seg.b, seg.radius)
         shape.friction = seg.friction
         shape.elasticity = seg.elasticity
-        shape.filter = pymunk.ShapeFilter(categories=STATIC_CAT, mask=OBJECT_CAT)
+        cat = FLOOR_CAT if seg.kind == "floor" else STATIC_CAT
+        shape.filter = pymunk.ShapeFilter(categories=cat, mask=OBJECT_CAT)
         self.space.add(shape)
 
     def add(self, spec: Body) -> None:
@@ -101,9 +104,9 @@ class World:
         b = self.body(slot)
         self.space.remove(b, *b.shapes)
 
-    def set_passable(self, slot: int, statics: bool = True, objects: bool = True) -> None:
-        """Let the object pass through static geometry and/or other objects."""
-        mask = (0 if statics else STATIC_CAT) | (0 if objects else OBJECT_CAT)
+    def set_passable(self, slot: int, statics: bool = True, objects: bool = True, floor: bool = False) -> None:
+        """Let the object pass through walls/shelves/ramps, other objects and/or the floor."""
+        mask = (0 if statics else STATIC_CAT) | (0 if objects else OBJECT_CAT) | (0 if floor else FLOOR_CAT)
         for s in self.body(slot).shapes:
             s.filter = pymunk.ShapeFilter(categories=OBJECT_CAT, mask=mask)
 

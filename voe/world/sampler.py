@@ -41,7 +41,7 @@ def _overlaps(b: Body, others: list[Body]) -> bool:
 
 def _statics(rng: np.random.Generator) -> tuple[list[Segment], dict[str, Any]]:
     """Floor plus, sometimes, a shelf, a ramp and a wall."""
-    segs = [floor(friction=float(rng.choice([0.0, 0.0, 0.4])), elasticity=0.5)]
+    segs = [floor(friction=float(rng.choice([0.0, 0.0, 0.4])), elasticity=float(rng.uniform(0.3, 0.9)))]
     info: dict[str, Any] = {}
     if rng.random() < 0.35:
         y = float(rng.uniform(2.5, 5.0))
@@ -81,7 +81,7 @@ def _body(rng: np.random.Generator, slot: int, motion: str, info: dict[str, Any]
     half = look["height"] / 2
     kw = dict(slot=slot, shape=look["shape"], width=look["width"], height=look["height"],
               intensity=look["intensity"], elasticity=float(rng.uniform(0.1, 0.9)),
-              friction=float(rng.choice([0.0, 0.0, 0.5])), mass=float(rng.uniform(0.5, 2.0)))
+              friction=float(rng.choice([0.0, 0.0, 0.5])), mass=look["width"] * look["height"])
     if motion == "shelf" and "shelf" in info:
         x0, x1, y = info["shelf"]
         return Body(x=float(rng.uniform(x0, x1)), y=y + 0.1 + half, vx=float(rng.uniform(-2.5, 2.5)), **kw)
@@ -109,15 +109,17 @@ def sample_scene(rng: np.random.Generator, cfg: SimConfig) -> tuple[Scene, dict[
     occluders = _occluders(rng)
     bodies: list[Body] = []
     motions: list[str] = []
-    collide = n_main >= 2 and rng.random() < 0.3
+    collide = n_main >= 2 and rng.random() < 0.5
+    resting_target = rng.random() < 0.5  # the probes' collisions hit an object at rest
     for i in range(n_main):
         motion = str(rng.choice(list(MOTIONS), p=list(MOTIONS.values())))
         for _ in range(20):
             b = _body(rng, slots[i], motion, info)
-            if collide and i < 2:  # two objects sliding towards each other on the floor
+            if collide and i < 2:  # two objects on the floor, sliding towards each other or one at rest
                 x = float(rng.uniform(0.5, 4.0)) if i == 0 else float(rng.uniform(6.0, 9.5))
                 b = b.moved(x=x, y=FLOOR_Y + b.height / 2, vy=0.0, omega=0.0,
-                            vx=(1 if i == 0 else -1) * float(rng.uniform(1.0, 4.0)))
+                            vx=0.0 if (i == 1 and resting_target) else
+                            (1 if i == 0 else -1) * float(rng.uniform(1.0, 4.0)))
                 motion = "collide"
             if not _overlaps(b, bodies):
                 break

@@ -30,7 +30,7 @@ class PointAttractor(Effect):
     def starts(self, ctx: FitContext) -> list[np.ndarray]:
         xs = np.linspace(ctx.lo[0], ctx.hi[0], 3)
         ys = np.linspace(ctx.lo[1], ctx.hi[1], 3)
-        return [np.array([0.2, x, y]) for x in xs for y in ys]
+        return [np.array([k, x, y]) for k in (0.3, 1.0) for x in xs for y in ys]
 
     def scale(self, ctx: FitContext) -> np.ndarray:
         size = float(np.max(ctx.hi - ctx.lo))

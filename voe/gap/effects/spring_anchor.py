@@ -1,7 +1,8 @@
 """A linear spring to an unknown anchor point: a = -k (r - p), k in 1/s^2.
 
 Why: a tether, elastic cord or restoring field pulls harder the further a body goes; unlike the
-point attractor the pull grows with distance. Starts from a 3 x 3 grid of anchors.
+point attractor the pull grows with distance. Starts from a 3 x 3 grid of anchors at two
+stiffnesses.
 """
 
 from __future__ import annotations
@@ -25,7 +26,7 @@ class SpringAnchor(Effect):
     def starts(self, ctx: FitContext) -> list[np.ndarray]:
         xs = np.linspace(ctx.lo[0], ctx.hi[0], 3)
         ys = np.linspace(ctx.lo[1], ctx.hi[1], 3)
-        return [np.array([0.1, x, y]) for x in xs for y in ys]
+        return [np.array([k, x, y]) for k in (0.15, 0.5) for x in xs for y in ys]
 
     def scale(self, ctx: FitContext) -> np.ndarray:
         size = float(np.max(ctx.hi - ctx.lo))

@@ -1,0 +1,62 @@
+"""End to end on small flight-only data: clean -> consistent, hidden drag -> found; CLI forms."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+from typer.testing import CliRunner
+
+from voe.cli.main import app
+from voe.gap import GapFinder
+
+from .conftest import flight_episodes
+
+FEW = ("linear_drag", "quadratic_drag", "constant_acceleration", "angular_damping")
+
+
+def test_clean_data_is_consistent():
+    scene, eps = flight_episodes(n=6, duration=2.0, seed=5)
+    f = GapFinder(effects=FEW, seed=0).fit(scene, eps)
+    assert f.verdict_ == "consistent"
+    assert f.effects_ == []
+    assert all(x["z"] <= f.z_strong_ for x in f.located_)
+    assert f.fit_["before"] == f.fit_["after"]
+
+
+def test_hidden_linear_drag_is_found_and_fitted():
+    scene, eps = flight_episodes("linear_drag", [0.4], n=6, duration=2.0, seed=6)
+    f = GapFinder(effects=FEW, seed=0).fit(scene, eps)
+    assert f.verdict_ == "mismatch"
+    assert f.effects_[0]["name"] == "linear_drag"
+    assert abs(f.effects_[0]["params"]["c"] - 0.4) / 0.4 < 0.15
+    assert f.fit_["after"] < 0.5 * f.fit_["before"]
+    assert f.located_ and {x["context"] for x in f.located_} == {"flight"}
+    assert "linear_drag" in f.explanation_
+
+
+def test_cli_diagnose_default_form_and_bench_help(flight_files, tmp_path):
+    scene, rec = flight_files
+    out = tmp_path / "out"
+    r = CliRunner().invoke(app, ["gap", str(scene), str(rec), "--out", str(out), "--effects", "linear_drag"])
+    assert r.exit_code == 0, r.output
+    data = json.loads((out / "gap.json").read_text())
+    assert data["verdict"] in ("consistent", "mismatch")
+    assert set(data) >= {"verdict", "located", "effects", "fit", "explanation", "provenance"}
+    assert len(data["provenance"]["inputs"]["scene"]["sha256"]) == 64
+    assert (out / "gap.md").exists() and (out / "trajectories.png").exists() and (out / "residual.png").exists()
+    r = CliRunner().invoke(app, ["gap", "bench", "--help"])
+    assert r.exit_code == 0 and "--cases" in r.output and "--noise" in r.output
+    r = CliRunner().invoke(app, ["gap", "diagnose", "--help"])
+    assert r.exit_code == 0 and "--max-effects" in r.output
+
+
+def test_cli_reports_bad_input_as_one_line(tmp_path, flight_files):
+    scene, _ = flight_files
+    bad = tmp_path / "bad.csv"
+    bad.write_text("episode,t,body,x,y\n0,0,ball,0,0\n")
+    p = subprocess.run([sys.executable, "-m", "voe", "gap", str(scene), str(bad), "--out", str(tmp_path / "o")],
+                       capture_output=True, text=True)
+    assert p.returncode == 1
+    assert "voe: error: recordings" in p.stderr and "missing column(s) angle" in p.stderr

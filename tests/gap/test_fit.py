@@ -1,0 +1,43 @@
+"""Parameter recovery through the simulator and the multiple-shooting fit."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from voe.gap.effects import EFFECTS
+from voe.gap.finder import _context
+from voe.gap.fit import Fitter
+from voe.gap.shooting import Shooter, make_windows, noise_floor
+
+from .conftest import flight_episodes
+
+
+def _fitter(scene, eps):
+    sigma = noise_floor(eps)
+    sh = Shooter(scene, eps, 1e-3, 8)
+    train = make_windows(eps, [0, 1, 2], 1.0)
+    test = make_windows(eps, [3], 1.0)
+    return Fitter(sh, sigma, train, test, _context(scene, eps)), sigma
+
+
+def test_noise_floor_is_estimated_from_data():
+    scene, eps = flight_episodes(noise=2e-3, seed=3)
+    sigma = noise_floor(eps)
+    np.testing.assert_allclose(sigma[0, :2], 2e-3, rtol=0.15)
+    np.testing.assert_allclose(sigma[0, 2], 2e-2, rtol=0.15)
+
+
+def test_quadratic_drag_coefficient_recovered_within_10_percent():
+    scene, eps = flight_episodes("quadratic_drag", [0.12], seed=1)
+    fitter, _ = _fitter(scene, eps)
+    eff = EFFECTS.get("quadratic_drag")()
+    res = fitter.fit(eff, max_nfev=20)
+    assert abs(res.params[0] - 0.12) / 0.12 < 0.10
+    assert res.heldout_rmse < 0.3 * fitter.heldout(None, None)
+
+
+def test_constant_acceleration_vector_recovered():
+    scene, eps = flight_episodes("constant_acceleration", [0.6, -0.4], seed=2)
+    fitter, _ = _fitter(scene, eps)
+    res = fitter.fit(EFFECTS.get("constant_acceleration")(), max_nfev=20)
+    np.testing.assert_allclose(res.params, [0.6, -0.4], atol=0.06)

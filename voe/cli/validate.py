@@ -1,0 +1,41 @@
+"""``voe validate-suite``: the validity controls and their specificity matrix."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import typer
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("validate-suite")
+    def validate_suite(
+        out: Path = typer.Option(Path("reports/validity"), "--out", help="Report directory."),
+        probes: Path = typer.Option(None, "--probes", help="Probe set (default: generate the core suite)."),
+        world: Path = typer.Option(None, "--world", help="Training set for calibration (default: generate)."),
+        work: Path = typer.Option(Path("voe-work/validity"), "--work", help="Scratch directory (reused)."),
+        controls: Path = typer.Option(None, "--controls", help="YAML file of your own controls."),
+        family: list[str] = typer.Option(None, "--family",
+                                         help="Only these built-in families: untrained, frame-only, "
+                                              "lesion, counterfactual (repeatable)."),
+        per_concept: int = typer.Option(16, "--per-concept", min=2, help="Sets per concept if generating."),
+        world_n: int = typer.Option(600, "--world-n", min=10, help="Training clips if generating."),
+        train_minutes: float = typer.Option(3.0, "--train-minutes", help="Per counterfactual model."),
+        seed: int = typer.Option(0),
+    ) -> None:
+        """Run untrained, frame-only, lesioned and counterfactual controls; write the matrix."""
+        from voe.controls.spec import load_user_controls
+        from voe.controls.suite import validate_suite as run
+        from voe.errors import VoeError
+
+        known = ("untrained", "frame-only", "lesion", "counterfactual")
+        bad = [f for f in family or [] if f not in known]
+        if bad:
+            raise VoeError(f"unknown control family {bad[0]!r} (known: {', '.join(known)})")
+        user = load_user_controls(controls) if controls else []
+        fams = tuple(family) if family else (() if user and family is not None else None)
+        matrix = run(out, work, probes, world, user, fams or None, per_concept, world_n, seed,
+                     train_minutes=train_minutes, say=typer.echo)
+        bad_cells = matrix[matrix["as_declared"].eq(False)]
+        typer.echo(f"wrote {out}/validity.md: {int(matrix['as_declared'].eq(True).sum())} cells as declared, "
+                   f"{len(bad_cells)} not")

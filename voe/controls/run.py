@@ -1,0 +1,127 @@
+"""Run validity controls over a probe set: build or train each control, score it, keep the run.
+
+Why: the specificity matrix is built from stored runs, like any report, so every control is
+scored through the same ``score_probe_set`` as a user's model. This module only decides how each
+control's model is obtained:
+
+* untrained networks: the registered architecture with a seed and no checkpoint;
+* frame-only scorers: constructed directly (the density one fitted on training frames);
+* lesioned and intact oracles: calibrated on the training world (``voe train`` does this);
+* counterfactual controls: the object-centric model trained on a counterfactual world;
+* user controls: ``load_model(ref, args, checkpoint)``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from voe.controls.spec import Control
+from voe.errors import VoeError
+
+
+@dataclass(frozen=True)
+class ControlSetup:
+    """Where training data lives and how long counterfactual models train.
+
+    Attributes:
+        world: the ordinary training set (calibration of oracles, frame densities).
+        work: a scratch directory for checkpoints, counterfactual worlds and runs.
+        seed: seed for world generation and training.
+        world_n: clips per counterfactual world (same scenes as ``world``'s seed).
+        train_minutes: CPU minutes per counterfactual model.
+        checkpoints: counterfactual name -> an existing checkpoint to reuse instead of training.
+    """
+
+    world: Path
+    work: Path
+    seed: int = 0
+    world_n: int = 600
+    train_minutes: float = 3.0
+    model_args: tuple[tuple[str, Any], ...] = ()
+    checkpoints: tuple[tuple[str, str], ...] = ()
+
+
+def _calibrated(ctrl: Control, setup: ControlSetup, say: Callable[[str], None]) -> Any:
+    from voe.models.loading import load_model
+    from voe.models.train import TrainConfig, train
+
+    ckpt = setup.work / "checkpoints" / ctrl.name
+    if not (ckpt / "config.json").exists() and not ckpt.exists():
+        say(f"calibrating {ctrl.name} on {setup.world}")
+        train(ctrl.model, setup.world, ckpt, TrainConfig(seed=setup.seed), dict(ctrl.args))
+    return load_model(ctrl.model, None, ckpt), ckpt
+
+
+def _counterfactual(ctrl: Control, setup: ControlSetup, say: Callable[[str], None]) -> Any:
+    from voe.models.loading import load_model
+    from voe.models.train import TrainConfig, train
+    from voe.sim.scene import SimConfig
+    from voe.world.generate import generate_world
+
+    reuse = dict(setup.checkpoints).get(ctrl.train_on or "")
+    if reuse:
+        return load_model(ctrl.model, None, Path(reuse)), Path(reuse)
+    world = setup.work / f"world-{ctrl.train_on}"
+    if not world.exists():
+        from voe.io.probeset import load_probe_set
+
+        size = load_probe_set(setup.world).manifest["frame_size"][0]
+        say(f"generating {setup.world_n} {ctrl.train_on} training clips")
+        generate_world(world, setup.world_n, setup.seed, SimConfig(size=size), ctrl.train_on, jobs=2)
+    ckpt = setup.work / "checkpoints" / ctrl.name
+    if not ckpt.exists():
+        say(f"training {ctrl.model} on the {ctrl.train_on} world for {setup.train_minutes} min")
+        train(ctrl.model, world, ckpt, TrainConfig(minutes=setup.train_minutes, seed=setup.seed),
+              dict(setup.model_args))
+    return load_model(ctrl.model, None, ckpt), ckpt
+
+
+def build_control(ctrl: Control, setup: ControlSetup, say: Callable[[str], None] = print) -> tuple[Any, Path | None]:
+    """The model of a control, and the checkpoint it came from (if any)."""
+    from voe.models.loading import load_model
+
+    if ctrl.family == "counterfactual":
+        return _counterfactual(ctrl, setup, say)
+    if ctrl.model == "voe.controls.frame_only:PixelDensity":
+        from voe.controls.frame_only import PixelDensity
+        from voe.io.probeset import load_probe_set
+
+        frames = load_probe_set(setup.world).array("frames")  # (N, T, H, W)
+        return PixelDensity(**ctrl.args).fit(frames[: min(len(frames), 400)]), None
+    if ctrl.calibrate:
+        return _calibrated(ctrl, setup, say)
+    ckpt = Path(ctrl.checkpoint) if ctrl.checkpoint else None
+    return load_model(ctrl.model, dict(ctrl.args), ckpt), ckpt
+
+
+def run_controls(controls: Sequence[Control], probes: Path, setup: ControlSetup,
+                 say: Callable[[str], None] = print, reuse: bool = True) -> list[Path]:
+    """Score every control on ``probes``; returns the run directories (one per control)."""
+    from voe.cli.common import progress
+    from voe.io.probeset import load_probe_set
+    from voe.scoring.score import score_probe_set
+
+    ps = load_probe_set(probes)
+    runs = []
+    names = [c.name for c in controls]
+    if len(set(names)) != len(names):
+        raise VoeError(f"control names must be unique, got duplicates in {names}")
+    for ctrl in controls:
+        out = setup.work / "runs" / ctrl.name
+        runs.append(out)
+        if reuse and (out / "run.json").exists():
+            import json
+
+            meta = json.loads((out / "run.json").read_text())
+            if meta.get("probes", {}).get("manifest_sha256") == ps.manifest_sha256:
+                say(f"reusing the stored run of {ctrl.name}")
+                continue
+        model, ckpt = build_control(ctrl, setup, say)
+        model.name = ctrl.name  # the matrix row label
+        with progress(len(ps), f"scoring {ctrl.name}", "clip") as tick:
+            score_probe_set(model, ps, out, model_ref=ctrl.model, model_args=dict(ctrl.args),
+                            checkpoint=ckpt, batch_size=32, overwrite=True, progress=tick)
+    return runs

@@ -1,0 +1,78 @@
+"""``validate_suite``: prepare data, run every control, build and write the specificity matrix."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from pathlib import Path
+
+import pandas as pd
+
+from voe.controls.builtin import builtin_controls
+from voe.controls.matrix import specificity_matrix
+from voe.controls.run import ControlSetup, run_controls
+from voe.controls.spec import Control
+
+
+def ensure_probes(probes: Path | None, work: Path, per_concept: int, seed: int, size: int) -> Path:
+    """The given probe set, or a core-suite one generated (once) under ``work``."""
+    if probes is not None:
+        return Path(probes)
+    out = work / "probes"
+    if not (out / "manifest.json").exists():
+        from voe.cli.common import progress
+        from voe.concepts.generate import generate_probe_set, resolve_concepts
+        from voe.sim.scene import SimConfig
+
+        ids = resolve_concepts("core")
+        with progress(len(ids) * per_concept, "probe sets", "set") as tick:
+            generate_probe_set(out, ids, per_concept, seed, SimConfig(size=size), jobs=2,
+                               overwrite=True, progress=tick)
+    return out
+
+
+def ensure_world(world: Path | None, work: Path, n: int, seed: int, size: int) -> Path:
+    """The given training set, or an ordinary one generated (once) under ``work``."""
+    if world is not None:
+        return Path(world)
+    out = work / "world"
+    if not (out / "manifest.json").exists():
+        from voe.cli.common import progress
+        from voe.sim.scene import SimConfig
+        from voe.world.generate import generate_world
+
+        with progress(n, "training clips", "clip") as tick:
+            generate_world(out, n, seed, SimConfig(size=size), jobs=2, overwrite=True, progress=tick)
+    return out
+
+
+def validate_suite(out: Path, work: Path, probes: Path | None = None, world: Path | None = None,
+                   user_controls: Sequence[Control] = (), families: tuple[str, ...] | None = None,
+                   per_concept: int = 16, world_n: int = 600, seed: int = 0, size: int = 64,
+                   train_minutes: float = 3.0, checkpoints: dict[str, str] | None = None,
+                   say: Callable[[str], None] = print) -> pd.DataFrame:
+    """Run built-in and user controls on a probe set and write the validity report to ``out``."""
+    from voe.io.probeset import load_probe_set
+    from voe.io.provenance import package_versions
+    from voe.report.validity import write_validity_report
+    from voe.scoring.runs import load_run
+
+    work = Path(work)
+    probes = ensure_probes(probes, work, per_concept, seed, size)
+    ps = load_probe_set(probes)
+    world = ensure_world(world, work, world_n, seed, ps.manifest["frame_size"][0])
+    controls = builtin_controls(families) if families else builtin_controls()
+    controls = [*controls, *user_controls]
+    setup = ControlSetup(world=world, work=work, seed=seed, world_n=world_n, train_minutes=train_minutes,
+                         checkpoints=tuple((checkpoints or {}).items()))
+    run_dirs = run_controls(controls, probes, setup, say)
+    runs = [load_run(d) for d in run_dirs]
+    for r, c in zip(runs, controls, strict=True):
+        r.label = c.name
+    matrix = specificity_matrix(controls, runs)
+    provenance = {"probes": str(Path(probes).resolve()), "probes_manifest_sha256": ps.manifest_sha256,
+                  "world": str(Path(world).resolve()),
+                  "world_manifest_sha256": load_probe_set(world).manifest_sha256, "seed": seed,
+                  "controls": [c.name for c in controls],
+                  "versions": package_versions()}
+    write_validity_report(matrix, out, provenance)
+    return matrix

@@ -1,0 +1,29 @@
+"""One call from files to a finished output directory (what ``voe gap`` runs).
+
+Why: the CLI stays thin and the same function is testable without a terminal.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+
+from voe.gap.finder import GapConfig, GapFinder
+from voe.gap.output import provenance, write_json
+
+
+def diagnose(scene: str | Path, recordings: str | Path, out: str | Path, effects: list[str] | None = None,
+             max_effects: int = 3, seed: int = 0, config: GapConfig | None = None, figures: bool = True,
+             progress: Callable[[str], None] | None = None) -> GapFinder:
+    """Run the finder and write ``gap.json`` (and ``gap.md`` with figures) into ``out``."""
+    finder = GapFinder(effects=effects, max_effects=max_effects, seed=seed, config=config)
+    finder.fit(scene, recordings, progress=progress)
+    out = Path(out)
+    payload = finder.to_dict()
+    payload["provenance"] = provenance(seed, {"scene": scene, "recordings": recordings}, finder.config)
+    write_json(out / "gap.json", payload)
+    if figures:
+        from voe.gap.report import write_report
+
+        write_report(finder, out)
+    return finder
