@@ -21,13 +21,14 @@ class DemoConfig:
     """Sizes and CPU budgets of the demo (defaults fit 2 cores in about 15 minutes)."""
 
     per_concept: int = 20
-    world_n: int = 1200
+    world_n: int = 2000
+    cf_world_n: int = 800
     calib_n: int = 200
     size: int = 64
     seed: int = 0
     minutes: dict[str, float] = field(default_factory=lambda: {
-        "interaction": 4.0, "pixel": 3.0, "mlp": 1.5,
-        "cf-gravity_off": 2.5, "cf-pass_through": 2.5})
+        "interaction": 4.0, "pixel": 2.5, "mlp": 1.5,
+        "cf-gravity_off": 2.0, "cf-pass_through": 2.0})
     validity: bool = True
     jobs: int = 2
 
@@ -62,7 +63,7 @@ def run_demo(out: Path, work: Path, cfg: DemoConfig, say: Callable[[str], None] 
     worlds = {"none": (world, cfg.world_n), "calib": (calib, cfg.calib_n)}
     if cfg.validity:
         for cf in ("gravity_off", "pass_through"):
-            worlds[cf] = (work / f"world-{cf}", cfg.world_n)
+            worlds[cf] = (work / f"world-{cf}", cfg.cf_world_n)
     for cf, (path, n) in worlds.items():
         if not (path / "manifest.json").exists():
             with progress(n, f"training clips ({cf})", "clip") as tick:

@@ -13,19 +13,22 @@ from voe.models.statelik import QUANTUM, cell_logp, gaussian_nll
 
 def test_quantised_gaussian_sums_to_one_over_cells():
     sigma = np.array([0.03, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3])
-    cells = np.arange(-600, 601) * QUANTUM[0] + 0.004  # every cell within +-6 wide sigmas, off-centre
+    cells = np.arange(-1000, 1001) * QUANTUM[0] + 0.004  # the uniform component's whole RANGE (x in -5..15)
     r = np.zeros((cells.size, 9))
     r[:, 0] = cells
-    total = np.exp(cell_logp(r, sigma)[:, 0]).sum()
+    obs = r + 5.0
+    total = np.exp(cell_logp(r, sigma, obs)[:, 0]).sum()
     assert abs(total - 1.0) < 1e-6
-    assert (gaussian_nll(r, sigma) >= 0).all()  # probabilities of cells: surprise never negative
+    assert (gaussian_nll(r, sigma, obs) >= 0).all()  # probabilities of cells: surprise never negative
 
 
-def test_quantised_gaussian_far_tail_is_finite_and_monotone():
+def test_quantised_gaussian_far_tail_is_finite_and_capped():
     r = np.zeros((3, 9))
-    r[:, 3] = [1.0, 10.0, 100.0]
-    nll = gaussian_nll(r, np.full(9, 0.01))
-    assert np.isfinite(nll).all() and nll[0] < nll[1] < nll[2]
+    r[:, 3] = [0.0, 0.02, 10.0]
+    nll = gaussian_nll(r, np.full(9, 0.01), r + 1.0)
+    assert np.isfinite(nll).all() and nll[0] < nll[1] <= nll[2] + 1e-9
+    # the uniform component caps a wrong feature at log(1 / 0.01) + log(40 / 0.05) = 11.3 nats
+    assert nll[2] - nll[0] < 11.4
 
 
 def test_frame_copy_sums_to_one_over_binary_frames():
@@ -39,3 +42,12 @@ def test_frame_copy_sums_to_one_over_binary_frames():
     nll = FrameCopy(eps=0.1).frame_nll(batch)
     assert np.isnan(nll[:, 0]).all()
     assert abs(np.exp(-nll[:, 1]).sum() - 1.0) < 1e-12
+
+
+def test_untrained_state_networks_are_uniform(tiny_batch):
+    """Untrained, every frame costs the same whatever it shows: ties, i.e. chance, on any set."""
+    from voe.models.loading import load_model
+
+    for name in ("interaction", "mlp"):
+        nll = load_model(name).frame_nll(tiny_batch)[:, 1:]
+        assert np.ptp(nll) < 1e-5, name

@@ -24,7 +24,7 @@ def register(app: typer.Typer) -> None:
         from voe.demo import DemoConfig, run_demo
 
         if quick:
-            cfg = DemoConfig(per_concept=4, world_n=60, calib_n=30, size=32, seed=seed, validity=validity,
+            cfg = DemoConfig(per_concept=4, world_n=60, cf_world_n=40, calib_n=30, size=32, seed=seed, validity=validity,
                              minutes={"interaction": 0.1, "pixel": 0.1, "mlp": 0.1,
                                       "cf-gravity_off": 0.1, "cf-pass_through": 0.1})
         else:

@@ -23,8 +23,9 @@ def generate(
     """Generate an ordinary-physics (or counterfactual) training set with role ``train``."""
     from voe.cli.common import progress
     from voe.sim.scene import SimConfig
-    from voe.world.generate import generate_world
+    from voe.world.generate import check_counterfactual, generate_world
 
+    check_counterfactual(counterfactual)
     cfg = SimConfig(size=size, n_frames=n_frames)
     with progress(n, "training clips", "clip") as tick:
         m = generate_world(out, n, seed, cfg, counterfactual, jobs, overwrite, tick)

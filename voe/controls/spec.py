@@ -45,8 +45,12 @@ class Control:
         args: model arguments.
         checkpoint: optional checkpoint path (or the name of a counterfactual training set the
             runner trains on, for ``counterfactual`` controls: ``train_on``).
-        expect: concept name -> expectation; others get ``default``.
+        expect: concept name (or ``concept/visible``, ``concept/occluded``) -> expectation;
+            concepts not listed get ``default``.
+        default: expectation for unlisted concepts.
         why: one line on what the control knows and why it should pass/fail where it does.
+        train_on: counterfactual world the control's model is trained on (counterfactual family).
+        calibrate: fit the model's noise on the training world before scoring (``voe train``).
     """
 
     name: str

@@ -108,7 +108,11 @@ def run_case(args: tuple[int, str, float, int]) -> dict:
     seed, truth, noise, max_effects = args
     rng = np.random.default_rng(seed)
     case = make_case(rng, truth, noise)
-    finder = GapFinder(max_effects=max_effects, seed=seed, config=GapConfig()).fit(case.scene, case.episodes)
+    try:
+        finder = GapFinder(max_effects=max_effects, seed=seed, config=GapConfig()).fit(case.scene, case.episodes)
+    except Exception as exc:  # a crash is a failed case, reported, not a lost bench
+        return {"seed": seed, "truth": truth, "found": f"error: {type(exc).__name__}", "group": [], "n_effects": 1,
+                "before": float("nan"), "after": float("nan"), "param_error": float("nan")}
     found = finder.effects_[0]["name"] if finder.effects_ else "none"
     group = finder.groups_[0] if finder.groups_ else []
     out = {"seed": seed, "truth": truth, "found": found, "group": group, "n_effects": len(finder.effects_),

@@ -96,7 +96,7 @@ class GapFinder:
         nf = Fitter(null_shooter, self.sigma_, *self._split(null_eps, train_ids, test_ids, rng, cfg.null_budget), ctx, cfg.fit)
         _, null_gains = candidate_gains(nf, candidates, None, np.zeros(0), nf.heldout(None, None),
                                         lambda k: note(f"null: {k}"))
-        self.null_gains_ = {k: round(v, 4) for k, v in null_gains.items()}
+        self.null_gains_ = {k: round(v, 4) for k, v in null_gains.items() if np.isfinite(v)}
         self.threshold_ = float(max(cfg.min_gain, cfg.null_safety * max(null_gains.values(), default=0.0)))
 
         # 2. locate
@@ -150,7 +150,8 @@ class GapFinder:
                 "null": {"gains": self.null_gains_, "threshold_gain": self.threshold_, "z_threshold": self.z_threshold_,
                          "z_max": self.z_strong_},
                 "rounds": [{"before": r.before, "winner": r.winner, "group": r.group,
-                            "gains": {k: round(g, 4) for k, g in r.gains.items()}} for r in self.rounds_],
+                            "gains": {k: (round(g, 4) if np.isfinite(g) else None) for k, g in r.gains.items()}}
+                           for r in self.rounds_],
                 "noise_floor": {n: dict(zip(("x", "y", "angle"), map(float, s), strict=True))
                                 for n, s in zip(self.scene_.names, self.sigma_, strict=True)}}
 

@@ -72,7 +72,8 @@ class Fitter:
     def cost(self, effect: Effect | None, params: np.ndarray | None) -> float:
         z = self.standardized(effect, params)
         fs = self.config.f_scale
-        return float(np.sum(2 * fs**2 * (np.sqrt(1 + (z / fs) ** 2) - 1)))
+        c = float(np.sum(2 * fs**2 * (np.sqrt(1 + (z / fs) ** 2) - 1)))
+        return c if np.isfinite(c) else 1e300
 
     def fit(self, effect: Effect, starts: list[np.ndarray] | None = None, max_nfev: int | None = None) -> FitResult:
         """Fit ``effect`` from the most promising of ``starts`` (default: the effect's own).

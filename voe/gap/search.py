@@ -56,7 +56,8 @@ def candidate_gains(fitter: Fitter, candidates: dict[str, Effect], current: Effe
         effect, starts = extend(current, params, cand, fitter.ctx)
         res = fitter.fit(effect, starts)
         results[key] = res
-        gains[key] = 1.0 - res.heldout_rmse / before if before > 0 else 0.0
+        ok = before > 0 and np.isfinite(res.heldout_rmse)  # a rollout that blew up is a failed fit
+        gains[key] = 1.0 - res.heldout_rmse / before if ok else -np.inf
         if progress:
             progress(key)
     return results, gains

@@ -3,8 +3,10 @@
 Observation space: the binarised frame (``voe.models.framecopy.binarise``), scored with an
 independent Bernoulli per pixel given all previous frames, so its surprise is directly comparable
 with frame copy's. The output logit adds a learned multiple of the current frame (a frame-copy
-skip path, initialised at the copy model's confidence) to the decoder's correction, so an untrained
-model starts near frame copy and training only has to learn motion.
+skip path) to the decoder's correction. The skip weight starts at zero, so an *untrained* model
+knows nothing, not even that frames persist (the validity controls need untrained networks at
+chance); it is scaled by ``COPY_SCALE`` so that training finds frame copy within a few hundred
+steps and then only has to learn motion.
 
 Shapes: frames (B, T, H, W) -> encoder (B, C, H/4, W/4) -> ConvGRU state -> 16 logits per 4x4
 block, pixel-shuffled to (B, 1, H, W), plus a 3x3 convolution of the current frame at full size.
@@ -24,6 +26,8 @@ from voe.io.batch import Batch
 from voe.models.framecopy import THRESHOLD, binarise
 from voe.models.torchbase import TorchModel
 
+COPY_SCALE = 6.0
+
 
 @dataclass(frozen=True)
 class PixelConfig:
@@ -41,7 +45,7 @@ class PixelNet(nn.Module):
         self.dec = nn.Sequential(nn.Conv2d(ch, ch, 3, 1, 1), nn.SiLU(), nn.Conv2d(ch, 16, 3, 1, 1),
                                  nn.PixelShuffle(4))
         self.local = nn.Conv2d(1, 1, 5, 1, 2)
-        self.copy = nn.Parameter(torch.tensor(6.0))  # ~ log((1 - eps) / eps) of frame copy
+        self.copy = nn.Parameter(torch.tensor(0.0))  # x COPY_SCALE: ~6 = frame copy's confidence
         self.ch = ch
 
     def forward(self, bits: torch.Tensor) -> torch.Tensor:
@@ -57,7 +61,7 @@ class PixelNet(nn.Module):
             c = torch.tanh(self.cand(torch.cat([e, r * hid], 1)))
             hid = (1 - z) * hid + z * c
             d = self.dec(hid)  # (B, 1, H, W)
-            out.append((d + self.local(f))[:, 0] + self.copy * f[:, 0])
+            out.append((d + self.local(f))[:, 0] + COPY_SCALE * self.copy * f[:, 0])
         return torch.stack(out, 1)
 
 

@@ -8,10 +8,12 @@ observed value's grid cell; the frame's surprise is the sum over slots of
 
     -log P(present) [- log P(shape) - sum_f log P(cell_f; mu_f, sigma_f)]   (bracket only when present)
 
-a normalised distribution over a discrete space, so every term is >= 0. Each Gaussian carries a
-1% outlier component (``WIDE``) so that one mispredicted contact cannot dominate a clip. Why discrete: with a
+a normalised distribution over a discrete space, so every term is >= 0. Why discrete: with a
 density, a well-predicted visible object earns a *negative* surprise (tens of nats) that an
 absent one does not, so clips would differ in surprise merely by how long objects are in view.
+Each Gaussian is mixed with an outlier component (weight ``OUTLIER`` = 1% for the references,
+learned for the networks), uniform over a generous ``RANGE``, so that one mispredicted contact
+cannot dominate a clip: a wrong feature costs at most about ``log(1 / w) + log(range / cell)``.
 The angle residual is wrapped to (-pi, pi] (negligible tail mass for sigma << pi). ``is_box`` is
 ``1 - is_circle`` and is therefore not scored.
 
@@ -33,9 +35,11 @@ CONT = ("x", "y", "angle", "vx", "vy", "omega", "width", "height", "intensity")
 CONSTANT = ("width", "height", "intensity")  # an object's look never changes
 #: Resolution of the state observation space per ``CONT`` feature.
 QUANTUM = (0.01, 0.01, 0.01, 0.05, 0.05, 0.05, 0.01, 0.01, 0.01)
-#: Robust outlier component of every state Gaussian: weight and scale per ``CONT`` feature.
+#: Robust outlier component of every state Gaussian: its weight, and a uniform range per ``CONT``
+#: feature (for the angle, the range of the wrapped residual: one full turn).
 OUTLIER = 0.01
-WIDE = (1.0, 1.0, 1.0, 3.0, 3.0, 3.0, 0.3, 0.3, 0.3)
+RANGE = ((-5.0, 15.0), (-5.0, 15.0), (-np.pi, np.pi), (-20.0, 20.0), (-20.0, 20.0), (-40.0, 40.0),
+         (0.0, 3.0), (0.0, 3.0), (0.0, 1.5))
 LOG2PI = float(np.log(2 * np.pi))
 #: Slot kinds of a prediction: tracked (present last frame), returning (seen before, absent last
 #: frame) and new (never seen).
@@ -129,22 +133,29 @@ def residuals(obs: np.ndarray, mean: np.ndarray) -> np.ndarray:
     return r
 
 
-def gaussian_nll(r: np.ndarray, sigma: np.ndarray) -> np.ndarray:
-    """Summed over the last axis: ``-log P(cell)`` of residual ``r`` under the robust mixture
-    ``(1 - OUTLIER) N(0, sigma^2) + OUTLIER N(0, WIDE^2)``, per feature.
+def gaussian_nll(r: np.ndarray, sigma: np.ndarray, obs: np.ndarray) -> np.ndarray:
+    """Summed over the last axis: ``-log P(cell)`` of observation ``obs`` (residual ``r``) under
+    ``(1 - OUTLIER) N(mu, sigma^2) + OUTLIER Uniform(RANGE)``, per feature.
 
     Why the mixture: one confidently mispredicted contact would otherwise cost thousands of
-    nats and dominate every average; the outlier component caps a wrong feature at roughly
-    ``log(1 / OUTLIER) + log(WIDE / QUANTUM)`` nats (about 9 to 12) unless it is far off.
+    nats and dominate every average; the uniform component caps a wrong feature at about
+    ``log(1 / OUTLIER) + log(range / cell)`` nats (12 to 13).
     """
-    return -cell_logp(r, sigma).sum(-1)
+    return -cell_logp(r, sigma, obs).sum(-1)
 
 
-def cell_logp(r: np.ndarray, sigma: np.ndarray) -> np.ndarray:
+def uniform_logp(r: np.ndarray, obs: np.ndarray) -> np.ndarray:
+    """Per feature ``log P(cell)`` under ``Uniform(RANGE)`` (-1e4 outside the range)."""
+    lo, hi = np.asarray(RANGE).T
+    v = np.concatenate([obs[..., :2], r[..., 2:3], obs[..., 3:]], -1)  # angle: its residual
+    inside = (v >= lo) & (v <= hi)
+    return np.where(inside, np.log(np.asarray(QUANTUM) / (hi - lo)), -1e4)
+
+
+def cell_logp(r: np.ndarray, sigma: np.ndarray, obs: np.ndarray) -> np.ndarray:
     """Per feature ``log P(cell)`` under the robust mixture (see ``gaussian_nll``)."""
     narrow = _cell_logp(r, np.broadcast_to(sigma, r.shape))
-    wide = _cell_logp(r, np.broadcast_to(np.asarray(WIDE), r.shape))
-    return np.minimum(np.logaddexp(np.log1p(-OUTLIER) + narrow, np.log(OUTLIER) + wide), 0.0)
+    return np.minimum(np.logaddexp(np.log1p(-OUTLIER) + narrow, np.log(OUTLIER) + uniform_logp(r, obs)), 0.0)
 
 
 def _cell_logp(r: np.ndarray, sigma: np.ndarray) -> np.ndarray:
@@ -183,7 +194,8 @@ def score(batch: Batch, mean: np.ndarray, kind: np.ndarray, noise: Noise,
     pp = np.asarray(noise.p_present)[kind] if p_present is None else p_present
     pp = np.clip(pp, 1e-6, 1 - 1e-6)
     nll = -np.where(pres, np.log(pp), np.log1p(-pp))  # (B, T, K)
-    cont = gaussian_nll(residuals(np.nan_to_num(obs), np.nan_to_num(mu)), sig)
+    obs0 = np.nan_to_num(obs)
+    cont = gaussian_nll(residuals(obs0, np.nan_to_num(mu)), sig, obs0)
     circ = batch.states[..., batch.feature("is_circle")] > 0.5
     if circle_mem is None:
         circle_mem = np.zeros_like(circ)

@@ -75,10 +75,8 @@ def _make(job: tuple[int, int, SimConfig, str]) -> ClipRecord:
         raise VoeError(f"training clip {index} (seed {seed}, {cf}) failed: {exc!r}") from exc
 
 
-def generate_world(out: Path, n: int, seed: int, cfg: SimConfig, counterfactual: str = "none",
-                   jobs: int = 1, overwrite: bool = False,
-                   progress: Callable[[int], None] | None = None) -> dict[str, Any]:
-    """Generate and write ``n`` training clips; returns the manifest."""
+def check_counterfactual(counterfactual: str) -> None:
+    """Raise ``UnknownNameError`` (with a did-you-mean) for an unknown counterfactual."""
     if counterfactual not in COUNTERFACTUALS:
         import difflib
 
@@ -86,6 +84,13 @@ def generate_world(out: Path, n: int, seed: int, cfg: SimConfig, counterfactual:
         hint = f"; did you mean '{close[0]}'?" if close else ""
         raise UnknownNameError(f"unknown counterfactual '{counterfactual}'{hint} "
                                f"(known: {', '.join(COUNTERFACTUALS)})")
+
+
+def generate_world(out: Path, n: int, seed: int, cfg: SimConfig, counterfactual: str = "none",
+                   jobs: int = 1, overwrite: bool = False,
+                   progress: Callable[[int], None] | None = None) -> dict[str, Any]:
+    """Generate and write ``n`` training clips; returns the manifest."""
+    check_counterfactual(counterfactual)
     if n < 1:
         raise VoeError(f"--n must be at least 1, got {n}")
     work = [(i, seed, cfg, counterfactual) for i in range(n)]
