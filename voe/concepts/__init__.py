@@ -8,7 +8,7 @@ CONCEPTS: Registry = Registry("concept")
 
 CONCEPTS.register("Permanence-v1", "voe.concepts.permanence:Permanence")
 CONCEPTS.register("Continuity-v1", "voe.concepts.continuity:Continuity")
-CONCEPTS.register("Unchangeableness-v1", "voe.concepts.unchangeableness:Unchangeableness")
+CONCEPTS.register("Unchangeableness-v2", "voe.concepts.unchangeableness:Unchangeableness")
 CONCEPTS.register("Solidity-v1", "voe.concepts.solidity:Solidity")
 CONCEPTS.register("Inertia-v1", "voe.concepts.inertia:Inertia")
 CONCEPTS.register("Gravity-v1", "voe.concepts.gravity:Gravity")

@@ -1,8 +1,8 @@
 """Unchangeableness: an object keeps its shape and size, seen or unseen.
 
 Possible A: object X slides along the frictionless floor, behind a screen and out. Possible B:
-object Y, which differs from X in shape, in size or in both, on the same x trajectory (same start
-x, same velocity; its height only sets where it rests on the floor). Impossible AB / BA splice A
+object Y, which differs from X in shape, in width or in both, on the same x trajectory (same start
+x, same velocity) and with the same height, so both rest at the same y. Impossible AB / BA splice A
 and B from the onset ``t0`` on, so the object turns from X into Y (or back). Occluded variant:
 ``t0`` falls while both X and Y are fully behind the screen, so the object comes out changed.
 Visible variant: ``t0`` falls while both are in plain view, so it morphs in sight.
@@ -24,22 +24,27 @@ OTHER_SHAPE = {"circle": "box", "box": "circle"}
 
 class Unchangeableness(Concept):
     name = "unchangeableness"
-    version = 1
+    version = 2
     kind = "quadruplet"
 
     def _sample(self, rng: np.random.Generator, ctx: Context) -> dict[str, Any]:
         r = self.ranges
         change = str(rng.choice(CHANGES))
         look_x = self.random_look(rng)
-        look_y = dict(look_x)  # same intensity: only shape and/or size change
-        if change in ("shape", "both"):
-            look_y["shape"] = OTHER_SHAPE[look_x["shape"]]
-        if change in ("size", "both"):
-            small, big = look_x["width"], look_x["width"] * self.uniform(rng, r["size_ratio"])
-            if rng.random() < 0.5:  # X is the big one half of the time
-                small, big = big, small
-            look_x = {**look_x, "width": small, "height": small}
-            look_y = {**look_y, "width": big, "height": big}
+        h = look_x["height"]
+        ratio = self.uniform(rng, r["size_ratio"])
+        # v2: X and Y always have the same height, so both rest with their centre at the same y
+        # and only shape or width can tell them apart (v1 let a size change show as a jump in y).
+        if change == "shape":
+            look_y = {**look_x, "shape": OTHER_SHAPE[look_x["shape"]]}
+        elif change == "size":  # a box that gets wider or narrower
+            look_x = {**look_x, "shape": "box"}
+            look_y = {**look_x, "width": h * ratio}
+        else:  # both: a ball of diameter h and a box h high, ratio * h wide
+            look_x = {**look_x, "shape": "circle"}
+            look_y = {**look_x, "shape": "box", "width": h * ratio}
+        if rng.random() < 0.5:  # which of the two comes first
+            look_x, look_y = look_y, look_x
         w_max = max(look_x["width"], look_y["width"])
         h_max = max(look_x["height"], look_y["height"])
         sx = self.uniform(rng, r["screen_x"])
@@ -64,7 +69,7 @@ class Unchangeableness(Concept):
         T = ctx.cfg.n_frames
         if ctx.visible:
             clear = _clear_of_screen(a, slot, occ) & _clear_of_screen(b, slot, occ)
-            onset = pick(np.flatnonzero(clear), p["u_onset"], 5, T - 5, "morph in plain view")
+            onset = pick(np.flatnonzero(clear), p["u_onset"], 3, T - 3, "morph in plain view")
         else:
             # both hidden (``present`` is pixel-accurate: no anti-aliased pixel shows)
             hidden = np.intersect1d(hidden_frames(a, slot), hidden_frames(b, slot))

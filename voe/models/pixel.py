@@ -3,9 +3,9 @@
 Observation space: the binarised frame (``voe.models.framecopy.binarise``), scored with an
 independent Bernoulli per pixel given all previous frames, so its surprise is directly comparable
 with frame copy's. The output logit adds a learned multiple of the current frame (a frame-copy
-skip path) to the decoder's correction. The skip weight starts at zero, so an *untrained* model
-knows nothing, not even that frames persist (the validity controls need untrained networks at
-chance); it is scaled by ``COPY_SCALE`` so that training finds frame copy within a few hundred
+skip path) to the decoder's correction. The skip weight and the output layers start at zero, so an
+*untrained* model is uniform over binary frames and knows nothing, not even that frames persist
+(the validity controls need untrained networks at chance); it is scaled by ``COPY_SCALE`` so that training finds frame copy within a few hundred
 steps and then only has to learn motion.
 
 Shapes: frames (B, T, H, W) -> encoder (B, C, H/4, W/4) -> ConvGRU state -> 16 logits per 4x4
@@ -47,6 +47,12 @@ class PixelNet(nn.Module):
         self.local = nn.Conv2d(1, 1, 5, 1, 2)
         self.copy = nn.Parameter(torch.tensor(0.0))  # x COPY_SCALE: ~6 = frame copy's confidence
         self.ch = ch
+        # Output layers start at zero: the untrained model gives every pixel probability 1/2, a
+        # uniform likelihood that ties every matched set (the untrained-network validity control).
+        # Their gradients are non-zero, so training starts at once.
+        for layer in (self.dec[2], self.local):
+            nn.init.zeros_(layer.weight)
+            nn.init.zeros_(layer.bias)
 
     def forward(self, bits: torch.Tensor) -> torch.Tensor:
         """Logits ``(B, T-1, H, W)`` for frames 1..T-1 from bits ``(B, T, H, W)``."""
