@@ -5,20 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from tests.concepts.helpers import balanced, main_slot
 from voe.concepts import get_concept
 from voe.concepts.continuity import in_gap_frames
 from voe.sim.scene import SimConfig
-
-
-def _main_slot(rec) -> int:
-    """The main object's slot: the one on the floor (distractors ride the top lane)."""
-    low = np.where(rec.present, rec.states[:, :, 1], np.inf).min(axis=0) < 5  # (K,)
-    return int(np.flatnonzero(low)[0])
-
-
-def _balanced(a, b, ab, ba) -> bool:
-    key = sorted(f.tobytes() for f in np.concatenate([a.frames, b.frames]))
-    return key == sorted(f.tobytes() for f in np.concatenate([ab.frames, ba.frames]))
 
 
 @pytest.fixture(scope="module")
@@ -37,7 +27,7 @@ def test_teleport_in_ab_and_balance(sets):
     for m in sets:
         a, b, ab, ba = (cl.rec for cl in m.clips)
         assert [cl.variant for cl in m.clips] == ["A", "B", "AB", "BA"]
-        slot = _main_slot(a)
+        slot = main_slot(a)
         assert not b.exists[:, slot].any()
         t1 = m.params["splice_onset"]
         differs = np.any(ab.exists != a.exists, axis=1)  # (T,)
@@ -52,14 +42,14 @@ def test_teleport_in_ab_and_balance(sets):
         # BA: the object exists only in [t1, t2)
         assert ba.exists[t1:t2, slot].all() and not ba.exists[:t1, slot].any()
         assert not ba.exists[t2:, slot].any()
-        assert _balanced(a, b, ab, ba)
+        assert balanced(a, b, ab, ba)
         assert np.any(ab.frames[t1:t2] != a.frames[t1:t2])
 
 
 def test_visible_vs_occluded_onsets(sets):
     for m in sets:
         a, b = m.clips[0].rec, m.clips[1].rec
-        slot = _main_slot(a)
+        slot = main_slot(a)
         t1 = m.params["splice_onset"]
         t2 = int(np.flatnonzero(np.any(m.clips[2].rec.exists != a.exists, axis=1)).max()) + 1
         gap = in_gap_frames(a, slot, m.params)

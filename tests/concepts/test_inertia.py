@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from tests.concepts.helpers import balanced, main_slot
 from voe.concepts import get_concept
 from voe.concepts.inertia import start_x
 from voe.sim.scene import FEATURE_NAMES, SimConfig
@@ -13,15 +14,6 @@ X, VX = FEATURE_NAMES.index("x"), FEATURE_NAMES.index("vx")
 CFG = SimConfig()
 
 
-def _main_slot(rec) -> int:
-    """The main object's slot: the one on the floor (distractors ride the top lane)."""
-    low = np.where(rec.present, rec.states[:, :, 1], np.inf).min(axis=0) < 5  # (K,)
-    return int(np.flatnonzero(low)[0])
-
-
-def _balanced(a, b, ab, ba) -> bool:
-    key = sorted(f.tobytes() for f in np.concatenate([a.frames, b.frames]))
-    return key == sorted(f.tobytes() for f in np.concatenate([ab.frames, ba.frames]))
 
 
 @pytest.fixture(scope="module")
@@ -34,7 +26,7 @@ def test_possible_clips_are_constant_velocity(sets):
     for m in sets:
         p = m.params
         for rec, v in ((m.clips[0].rec, p["v1"]), (m.clips[1].rec, p["v2"])):
-            slot = _main_slot(rec)
+            slot = main_slot(rec)
             t = np.flatnonzero(rec.present[:, slot])
             expect = start_x(p, v, CFG.dt) + v * t * CFG.dt
             np.testing.assert_allclose(rec.states[t, slot, X], expect, atol=1e-4)
@@ -45,9 +37,9 @@ def test_velocity_jumps_position_continuous(sets):
     for m in sets:
         p = m.params
         a, b, ab, ba = (cl.rec for cl in m.clips)
-        slot, t0 = _main_slot(a), p["splice_onset"]
+        slot, t0 = main_slot(a), p["splice_onset"]
         assert t0 == p["t_star"] + 1
-        assert _balanced(a, b, ab, ba)
+        assert balanced(a, b, ab, ba)
         assert np.any(ab.frames[t0:] != a.frames[t0:])
         assert np.array_equal(ab.frames[:t0], a.frames[:t0])
         assert abs(p["v2"] - p["v1"]) > 0.7 * min(abs(p["v1"]), abs(p["v2"]))
@@ -69,7 +61,7 @@ def test_velocity_jumps_position_continuous(sets):
 def test_occluded_onset_is_hidden(sets):
     for m in sets:
         a, b = m.clips[0].rec, m.clips[1].rec
-        slot, t0 = _main_slot(a), m.params["splice_onset"]
+        slot, t0 = main_slot(a), m.params["splice_onset"]
         if m.visible:
             assert a.present[t0 - 1:t0 + 1, slot].all() and b.present[t0 - 1:t0 + 1, slot].all()
             continue

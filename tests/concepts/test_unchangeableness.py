@@ -5,21 +5,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from tests.concepts.helpers import balanced, main_slot
 from voe.concepts import get_concept
 from voe.sim.scene import FEATURE_NAMES, SimConfig
 
 W, H, CIRCLE = (FEATURE_NAMES.index(f) for f in ("width", "height", "is_circle"))
 
 
-def _main_slot(rec) -> int:
-    """The main object's slot: the one on the floor (distractors ride the top lane)."""
-    low = np.where(rec.present, rec.states[:, :, 1], np.inf).min(axis=0) < 5  # (K,)
-    return int(np.flatnonzero(low)[0])
-
-
-def _balanced(a, b, ab, ba) -> bool:
-    key = sorted(f.tobytes() for f in np.concatenate([a.frames, b.frames]))
-    return key == sorted(f.tobytes() for f in np.concatenate([ab.frames, ba.frames]))
 
 
 @pytest.fixture(scope="module")
@@ -36,8 +28,8 @@ def test_all_kinds_of_change_occur(sets):
 def test_look_changes_at_onset_path_does_not(sets):
     for m in sets:
         a, b, ab, ba = (cl.rec for cl in m.clips)
-        slot, t0 = _main_slot(a), m.params["splice_onset"]
-        assert _balanced(a, b, ab, ba)
+        slot, t0 = main_slot(a), m.params["splice_onset"]
+        assert balanced(a, b, ab, ba)
         assert np.any(ab.frames[t0:] != a.frames[t0:])
         assert np.array_equal(ab.frames[:t0], a.frames[:t0])
         # same x trajectory in A and B wherever both are visible
@@ -59,7 +51,7 @@ def test_look_changes_at_onset_path_does_not(sets):
 def test_visible_vs_occluded_onsets(sets):
     for m in sets:
         a, b = m.clips[0].rec, m.clips[1].rec
-        slot, t0 = _main_slot(a), m.params["splice_onset"]
+        slot, t0 = main_slot(a), m.params["splice_onset"]
         if m.visible:  # both in plain view, clear of the screen, at t0 - 1 and t0
             x0, x1 = m.params["screen_x"] - m.params["screen_width"] / 2, m.params["screen_x"] + m.params["screen_width"] / 2
             for rec in (a, b):

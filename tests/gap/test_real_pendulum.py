@@ -11,7 +11,6 @@ from voe.gap import GapFinder
 DATA = Path(__file__).resolve().parents[2] / ".." / "shared" / "data" / "real" / "single-pendulum"
 
 
-@pytest.mark.slow
 @pytest.mark.skipif(not (DATA / "recordings.csv").exists(), reason=f"real pendulum data not found at {DATA}")
 def test_real_pendulum_damping_found():
     f = GapFinder(seed=0).fit(DATA / "scene.json", DATA / "recordings.csv")

@@ -37,8 +37,10 @@ def _vanisher(scene: Scene) -> Callable[[World], None]:
 
 
 def _pass_through(world: World) -> None:
+    """Objects pass through each other and through walls, shelves and ramps; the floor still
+    holds them (otherwise everything would fall out of the scene)."""
     for slot in world.bodies():
-        world.set_passable(slot, statics=False, objects=True)
+        world.set_passable(slot, statics=True, objects=True)
 
 
 def make_clip(index: int, seed: int, cfg: SimConfig, counterfactual: str = "none") -> ClipRecord:
