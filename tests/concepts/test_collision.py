@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from tests.concepts.helpers import assert_pair
 from voe.concepts import get_concept
 from voe.sim.scene import FEATURE_NAMES, SimConfig
 
@@ -37,11 +38,7 @@ def test_modes_and_visibilities(sets):
 
 def test_pair_shares_the_prefix_and_differs_after(sets):
     for m in sets:
-        pos, imp = (cl.rec for cl in m.clips)
-        onset = m.clips[0].onset
-        assert 3 <= onset < 32
-        assert np.array_equal(pos.frames[:onset], imp.frames[:onset])
-        assert not np.array_equal(pos.frames[onset:], imp.frames[onset:])
+        assert_pair(m, 3, 32)
 
 
 def test_possible_keeps_the_order_and_pass_through_reverses_it(sets):

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from tests.concepts.helpers import assert_pair
 from voe.concepts import get_concept
 from voe.concepts.parts import FLOOR_Y
 from voe.sim.scene import FEATURE_NAMES, SimConfig
@@ -26,11 +27,7 @@ def _peak_after(rec, slot, onset, r):
 
 def test_pair_shares_the_prefix_and_differs_after(sets):
     for m in sets:
-        pos, imp = (cl.rec for cl in m.clips)
-        onset = m.clips[0].onset
-        assert 5 <= onset < 25
-        assert np.array_equal(pos.frames[:onset], imp.frames[:onset])
-        assert not np.array_equal(pos.frames[onset:], imp.frames[onset:])
+        assert_pair(m, 5, 25)
 
 
 def test_dropped_from_rest_and_onset_is_the_first_impact(sets):

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from tests.concepts.helpers import assert_pair
 from voe.concepts import get_concept
 from voe.concepts.parts import FLOOR_Y
 from voe.sim.scene import FEATURE_NAMES, SimConfig
@@ -32,12 +33,7 @@ def test_both_events_and_both_visibilities_occur(sets):
 
 def test_pair_shares_the_prefix_and_differs_after(sets):
     for m in sets:
-        pos, imp = (cl.rec for cl in m.clips)
-        onset = m.clips[0].onset
-        assert 3 <= onset < 30
-        assert np.array_equal(pos.frames[:onset], imp.frames[:onset])
-        assert np.array_equal(pos.states[:onset], imp.states[:onset], equal_nan=True)
-        assert not np.array_equal(pos.frames[onset:], imp.frames[onset:])
+        assert_pair(m, 3, 30)
 
 
 def test_shelf_holds_the_possible_object_and_not_the_impossible_one(sets):
