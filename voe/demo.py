@@ -79,7 +79,7 @@ def run_demo(out: Path, work: Path, cfg: DemoConfig, say: Callable[[str], None] 
     if cfg.validity:
         jobs += [("interaction", str(worlds[cf][0]), str(ckpt / f"interaction-{cf}"),
                   cfg.minutes[f"cf-{cf}"], cfg.seed, {}) for cf in ("gravity_off", "pass_through")]
-    jobs = [j for j in jobs if not (Path(j[2]) / "meta.json").exists() and not Path(j[2]).exists()]
+    jobs = [j for j in jobs if not Path(j[2]).exists()]  # checkpoints are written atomically
     if jobs:
         total = sum(j[3] for j in jobs) / max(cfg.jobs, 1)
         say(f"training {len(jobs)} model(s), {cfg.jobs} at a time (about {total:.0f} min)")

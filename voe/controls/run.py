@@ -49,7 +49,7 @@ def _calibrated(ctrl: Control, setup: ControlSetup, say: Callable[[str], None]) 
     from voe.models.train import TrainConfig, train
 
     ckpt = setup.work / "checkpoints" / ctrl.name
-    if not (ckpt / "config.json").exists() and not ckpt.exists():
+    if not ckpt.exists():  # checkpoints are written atomically: present means complete
         say(f"calibrating {ctrl.name} on {setup.world}")
         train(ctrl.model, setup.world, ckpt, TrainConfig(seed=setup.seed), dict(ctrl.args))
     return load_model(ctrl.model, None, ckpt), ckpt
