@@ -22,13 +22,13 @@ class DemoConfig:
 
     per_concept: int = 20
     world_n: int = 2000
-    cf_world_n: int = 800
+    cf_world_n: int = 2000
     calib_n: int = 200
     size: int = 64
     seed: int = 0
     minutes: dict[str, float] = field(default_factory=lambda: {
         "interaction": 4.0, "pixel": 2.5, "mlp": 1.5,
-        "cf-gravity_off": 2.0, "cf-pass_through": 2.0})
+        "cf-gravity_off": 2.5, "cf-pass_through": 2.5})
     validity: bool = True
     jobs: int = 2
 
@@ -131,7 +131,7 @@ def run_demo(out: Path, work: Path, cfg: DemoConfig, say: Callable[[str], None] 
         validity = out.parent / f"{out.name}-validity"
         validate_suite(validity, work / "validity", probes=probes, world=calib, seed=cfg.seed,
                        checkpoints={cf: str(ckpt / f"interaction-{cf}") for cf in ("gravity_off", "pass_through")},
-                       say=say)
+                       say=say, jobs=cfg.jobs)
     times["validity"] = time.monotonic() - t3
     from voe.report.build import build_report
 

@@ -1,4 +1,4 @@
-"""Collision-v1: objects collide in the possible clip; pass through or act at a distance otherwise."""
+"""Collision-v2: objects collide in the possible clip; pass through or act at a distance otherwise."""
 
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ X, VX = FEATURE_NAMES.index("x"), FEATURE_NAMES.index("vx")
 
 @pytest.fixture(scope="module")
 def sets():
-    c = get_concept("Collision-v1")
+    c = get_concept("Collision-v2")
     return [c.make_set(i, s, SimConfig()) for s in (0, 1) for i in range(12)]
 
 
@@ -25,10 +25,21 @@ def _order(rec, p):
     return p["direction"] * (rec.states[both, s2, X] - rec.states[both, s1, X])
 
 
-def test_the_two_objects_look_different(sets):
+def test_the_two_objects_look_different_and_meet_head_on(sets):
     for m in sets:
         a, b = m.params["looks"]
-        assert abs(a["width"] - b["width"]) > 0.2 and abs(a["intensity"] - b["intensity"]) > 0.15
+        assert abs(a["intensity"] - b["intensity"]) > 0.15
+        assert a["height"] == b["height"]  # centres at one height: a head-on hit
+        if "box" in (a["shape"], b["shape"]):
+            assert abs(a["width"] - b["width"]) > 0.2 or a["shape"] != b["shape"]
+
+
+def test_the_hit_does_not_tip_anything(sets):
+    A = FEATURE_NAMES.index("angle")
+    for m in sets:
+        pos = m.clips[0].rec
+        for s in m.params["main_slots"]:
+            assert np.nanmax(np.abs(pos.states[:, s, A])) < 1e-3
 
 
 def test_modes_and_visibilities(sets):

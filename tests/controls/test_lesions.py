@@ -17,10 +17,11 @@ from voe.world.generate import generate_world
 
 #: lesion -> (concept, condition or None) it must degrade
 LAW = {
-    "no-gravity": ("Gravity-v1", None),
+    "no-gravity": ("Gravity-v2", None),
     "no-collisions": ("Solidity-v1", None),
     "no-inertia": ("Inertia-v1", None),
     "forget-occluded": ("Permanence-v1", False),
+    "energy-gain": ("Energy-v2", None),
 }
 
 

@@ -51,3 +51,33 @@ def test_untrained_state_networks_are_uniform(tiny_batch):
     for name in ("interaction", "mlp"):
         nll = load_model(name).frame_nll(tiny_batch)[:, 1:]
         assert np.ptp(nll) < 1e-5, name
+
+
+def test_noise_fit_is_maximum_likelihood_under_the_outlier_mixture():
+    """A few wild residuals (mispredicted contacts) must not set sigma for every frame."""
+    from voe.models.statelik import robust_sigma
+
+    rng = np.random.default_rng(0)
+    r = rng.normal(0.0, 0.02, size=(5000, 9))
+    r[:25] = rng.uniform(-3, 3, size=(25, 9))  # 0.5 % outliers
+    rms = np.sqrt((r ** 2).mean(0))
+    sig = robust_sigma(r)
+    assert (rms > 0.1).all()  # the RMS is ruined by 25 outliers
+    np.testing.assert_allclose(sig, 0.02, rtol=0.05)
+
+
+def test_shape_prior_scores_a_returning_look_like_a_new_one(tiny_batch):
+    """``shape_prior`` makes width and height cost what a new object's would, nothing else."""
+    from voe.models.statelik import NEW, Noise, cont_index, score, slot_kind
+
+    b = tiny_batch
+    kind = slot_kind(np.cumsum(b.present, axis=1) > 0, b.present)
+    mean = np.nan_to_num(b.states[..., cont_index(b.feature_names)].astype(np.float64))  # perfect
+    circ = b.states[..., b.feature("is_circle")] > 0.5
+    noise = Noise()
+    plain = score(b, mean, kind, noise, circle_mem=circ)
+    every = np.ones_like(b.present)
+    blind = score(b, mean, kind, noise, circle_mem=circ, shape_prior=every & (kind != NEW))
+    assert np.nansum(blind) > np.nansum(plain)  # remembering the look is worth something
+    none = score(b, mean, kind, noise, circle_mem=circ, shape_prior=np.zeros_like(every))
+    np.testing.assert_allclose(none, plain)

@@ -22,6 +22,7 @@ def register(app: typer.Typer) -> None:
         world_n: int = typer.Option(600, "--world-n", min=10, help="Training clips if generating."),
         train_minutes: float = typer.Option(3.0, "--train-minutes", help="Per counterfactual model."),
         seed: int = typer.Option(0),
+        jobs: int = typer.Option(1, "--jobs", min=1, help="Controls built and scored at a time."),
     ) -> None:
         """Run untrained, frame-only, lesioned and counterfactual controls; write the matrix."""
         from voe.controls.spec import load_user_controls
@@ -35,7 +36,7 @@ def register(app: typer.Typer) -> None:
         user = load_user_controls(controls) if controls else []
         fams = tuple(family) if family else (() if user and family is not None else None)
         matrix = run(out, work, probes, world, user, fams or None, per_concept, world_n, seed,
-                     train_minutes=train_minutes, say=typer.echo)
+                     train_minutes=train_minutes, say=typer.echo, jobs=jobs)
         bad_cells = matrix[matrix["as_declared"].eq(False)]
         typer.echo(f"wrote {out}/validity.md: {int(matrix['as_declared'].eq(True).sum())} cells as declared, "
                    f"{len(bad_cells)} not")

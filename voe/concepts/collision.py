@@ -1,7 +1,10 @@
 """Collision: objects do not pass through each other and do not act at a distance.
 
-Two objects that look clearly different (one small, one large; one dim, one bright) slide on a
-frictionless floor towards each other. Possible: they collide and exchange momentum. Impossible,
+Two objects that look clearly different (one dim, one bright; a narrow and a wide box, or a ball
+and a box) slide on a frictionless floor towards each other. They have the same height, so every
+hit is head-on: v1's objects of different heights met off-centre, the hit object tipped and rocked
+on the floor, and a physics observer restarting from each frame could not follow the rocking,
+which made the possible collision nearly as surprising as an impossible one. Possible: they collide and exchange momentum. Impossible,
 pass-through: from the last frame before contact object 1 ignores object 2 and slides on through
 it, object 2 carrying on as if nothing had touched it. Impossible, action at a distance (visible
 sets only): while a clear gap still separates them, object 1 stops dead and object 2 sets off with
@@ -32,7 +35,7 @@ from voe.sim.world import World
 
 class Collision(Concept):
     name = "collision"
-    version = 1
+    version = 2
     kind = "pair"
     n_main = 2
 
@@ -44,8 +47,13 @@ class Collision(Concept):
             sizes.reverse()
         if rng.random() < 0.5:
             shades.reverse()
-        looks = [{"shape": str(rng.choice(["circle", "box"])), "width": s, "height": s, "intensity": i}
-                 for s, i in zip(sizes, shades, strict=True)]
+        # one height for both, so that every hit is head-on (through both centres): no torque, no
+        # tipping, a clean exchange of momentum; a box's width is its own, a ball's is the height
+        height = self.uniform(rng, r["height"])
+        shapes = [str(rng.choice(["circle", "box"])) for _ in range(2)]
+        sizes = [height if sh == "circle" else s for sh, s in zip(shapes, sizes, strict=True)]
+        looks = [{"shape": sh, "width": s, "height": height, "intensity": i}
+                 for sh, s, i in zip(shapes, sizes, shades, strict=True)]
         direction = 1 if rng.random() < 0.5 else -1
         v1 = self.uniform(rng, r["speed"])
         v2 = 0.0 if ctx.visible else self.uniform(rng, r["approach"])
@@ -59,7 +67,7 @@ class Collision(Concept):
                 "elasticity": [self.uniform(rng, r["elasticity"]) for _ in range(2)],
                 "mode": "pass" if not ctx.visible or rng.random() < 0.5 else "distance",
                 "u_onset": float(rng.random()),
-                "screen": [xs[0], xs[1], FLOOR_Y + max(sizes) + self.uniform(rng, [0.5, 0.8])]}
+                "screen": [xs[0], xs[1], FLOOR_Y + height + self.uniform(rng, [0.5, 0.8])]}
 
     def build(self, p: dict[str, Any], ctx: Context) -> Scene:
         d = p["direction"]

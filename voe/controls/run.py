@@ -97,28 +97,58 @@ def build_control(ctrl: Control, setup: ControlSetup, say: Callable[[str], None]
     return load_model(ctrl.model, dict(ctrl.args), ckpt), ckpt
 
 
+def _score_control(job: tuple[Control, Path, ControlSetup, Path]) -> str:
+    """Build one control and score it (a worker of ``run_controls``); returns its name."""
+    import sys
+
+    from voe.scoring.score import score_probe_set
+
+    ctrl, probes, setup, out = job
+    model, ckpt = build_control(ctrl, setup, lambda s: None)
+    if "torch" in sys.modules:  # two workers share two cores
+        sys.modules["torch"].set_num_threads(1)
+    model.name = ctrl.name  # the matrix row label
+    score_probe_set(model, probes, out, model_ref=ctrl.model, model_args=dict(ctrl.args),
+                    checkpoint=ckpt, batch_size=32, overwrite=True)
+    return ctrl.name
+
+
 def run_controls(controls: Sequence[Control], probes: Path, setup: ControlSetup,
-                 say: Callable[[str], None] = print, reuse: bool = True) -> list[Path]:
-    """Score every control on ``probes``; returns the run directories (one per control)."""
+                 say: Callable[[str], None] = print, reuse: bool = True, jobs: int = 1) -> list[Path]:
+    """Score every control on ``probes``; returns the run directories (one per control).
+
+    With ``jobs`` > 1 the controls are built and scored in that many processes (each control's
+    run is independent), with one progress bar over controls instead of one per control.
+    """
+    import json
+
     from voe.cli.common import progress
     from voe.io.probeset import load_probe_set
     from voe.scoring.score import score_probe_set
 
     ps = load_probe_set(probes)
-    runs = []
     names = [c.name for c in controls]
     if len(set(names)) != len(names):
         raise VoeError(f"control names must be unique, got duplicates in {names}")
-    for ctrl in controls:
-        out = setup.work / "runs" / ctrl.name
-        runs.append(out)
+    runs = [setup.work / "runs" / c.name for c in controls]
+    todo = []
+    for ctrl, out in zip(controls, runs, strict=True):
         if reuse and (out / "run.json").exists():
-            import json
-
             meta = json.loads((out / "run.json").read_text())
             if meta.get("probes", {}).get("manifest_sha256") == ps.manifest_sha256:
                 say(f"reusing the stored run of {ctrl.name}")
                 continue
+        todo.append((ctrl, Path(probes), setup, out))
+    if jobs > 1 and len(todo) > 1:
+        from concurrent.futures import ProcessPoolExecutor, as_completed
+
+        with progress(len(todo), f"controls ({jobs} at a time)", "control") as tick, \
+                ProcessPoolExecutor(jobs) as pool:
+            for fut in as_completed([pool.submit(_score_control, job) for job in todo]):
+                say(f"scored {fut.result()}")
+                tick(1)
+        return runs
+    for ctrl, _, _, out in todo:
         model, ckpt = build_control(ctrl, setup, say)
         model.name = ctrl.name  # the matrix row label
         with progress(len(ps), f"scoring {ctrl.name}", "clip") as tick:

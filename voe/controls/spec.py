@@ -101,7 +101,10 @@ def load_user_controls(path: Path) -> list[Control]:
         expect: dict[str, str] = {}
         for key, val in (("should_pass", "pass"), ("should_fail", "fail"), ("should_be_chance", "chance")):
             for concept in _names(e, key, path):
-                CONCEPTS.resolve(concept)  # did-you-mean on typos
+                try:
+                    CONCEPTS.resolve(concept)  # did-you-mean on typos
+                except VoeError as exc:
+                    raise type(exc)(f"{path}: control '{e['name']}': {exc}") from exc
                 expect[concept] = val
         default = str(e.get("default", "none"))
         if default not in EXPECTATIONS:

@@ -49,7 +49,7 @@ def validate_suite(out: Path, work: Path, probes: Path | None = None, world: Pat
                    user_controls: Sequence[Control] = (), families: tuple[str, ...] | None = None,
                    per_concept: int = 16, world_n: int = 600, seed: int = 0, size: int = 64,
                    train_minutes: float = 3.0, checkpoints: dict[str, str] | None = None,
-                   say: Callable[[str], None] = print) -> pd.DataFrame:
+                   say: Callable[[str], None] = print, jobs: int = 1) -> pd.DataFrame:
     """Run built-in and user controls on a probe set and write the validity report to ``out``."""
     from voe.io.probeset import load_probe_set
     from voe.io.provenance import package_versions
@@ -64,7 +64,7 @@ def validate_suite(out: Path, work: Path, probes: Path | None = None, world: Pat
     controls = [*controls, *user_controls]
     setup = ControlSetup(world=world, work=work, seed=seed, world_n=world_n, train_minutes=train_minutes,
                          checkpoints=tuple((checkpoints or {}).items()))
-    run_dirs = run_controls(controls, probes, setup, say)
+    run_dirs = run_controls(controls, probes, setup, say, jobs=jobs)
     runs = [load_run(d) for d in run_dirs]
     for r, c in zip(runs, controls, strict=True):
         r.label = c.name

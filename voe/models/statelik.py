@@ -108,6 +108,8 @@ class Noise:
     Attributes:
         sigma: per ``CONT`` feature, for tracked slots.
         sigma_return: per ``CONT`` feature, for slots reappearing after being absent.
+        sigma_contact: per ``CONT`` feature, for tracked slots the predictor marks as in an impact
+            (only predictors that know when contacts happen, such as the physics oracle, mark any).
         prior_mean, prior_sigma: per ``CONT`` feature, for slots never seen before.
         p_present: P(present) for tracked, returning and new slots.
         p_circle: P(circle) of a new object; p_keep: P(shape unchanged) of a known one.
@@ -115,6 +117,7 @@ class Noise:
 
     sigma: tuple[float, ...] = (0.05, 0.05, 0.1, 0.3, 0.4, 0.3, 1e-3, 1e-3, 1e-3)
     sigma_return: tuple[float, ...] = (0.5, 0.5, 1.0, 1.0, 1.0, 1.0, 1e-3, 1e-3, 1e-3)
+    sigma_contact: tuple[float, ...] = (0.05, 0.05, 0.1, 0.5, 0.5, 0.5, 1e-3, 1e-3, 1e-3)
     prior_mean: tuple[float, ...] = (5.0, 3.0, 0.0, 0.0, 0.0, 0.0, 0.9, 0.9, 0.8)
     prior_sigma: tuple[float, ...] = (4.0, 3.0, 1.0, 2.0, 2.0, 2.0, 0.3, 0.3, 0.15)
     p_present: tuple[float, float, float] = (0.98, 0.1, 0.01)
@@ -176,7 +179,9 @@ def _cell_logp(r: np.ndarray, sigma: np.ndarray) -> np.ndarray:
 
 
 def score(batch: Batch, mean: np.ndarray, kind: np.ndarray, noise: Noise,
-          p_present: np.ndarray | None = None, circle_mem: np.ndarray | None = None) -> np.ndarray:
+          p_present: np.ndarray | None = None, circle_mem: np.ndarray | None = None,
+          contact: np.ndarray | None = None, shape_prior: np.ndarray | None = None,
+          per_slot: bool = False) -> np.ndarray:
     """Per-frame surprise ``(B, T)`` (frame 0 NaN) of a point prediction with calibrated noise.
 
     Args:
@@ -184,13 +189,25 @@ def score(batch: Batch, mean: np.ndarray, kind: np.ndarray, noise: Noise,
         kind: ``(B, T, K)`` from ``slot_kind``.
         p_present: optional ``(B, T, K)`` override of P(present) (the oracle knows the screens).
         circle_mem: ``(B, T, K)`` remembered is_circle for known slots.
+        contact: optional ``(B, T, K)`` bool, tracked slots predicted through an impact (scored
+            with ``noise.sigma_contact``).
+        shape_prior: optional ``(B, T, K)`` bool, known slots whose shape and size are scored
+            like a new object's (a model that does not remember them).
+        per_slot: return each slot's share, ``(B, T, K)``, instead of the frame's sum.
     """
     idx = cont_index(batch.feature_names)
     obs = batch.states[..., idx].astype(np.float64)  # (B, T, K, 9)
     pres = batch.present
-    mu = np.where((kind == NEW)[..., None], np.asarray(noise.prior_mean), mean)
-    sig = np.select([(kind == TRACKED)[..., None], (kind == RETURNING)[..., None]],
-                    [np.asarray(noise.sigma), np.asarray(noise.sigma_return)], np.asarray(noise.prior_sigma))
+    new = kind == NEW
+    fresh_look = new if shape_prior is None else new | shape_prior
+    look = np.isin(np.arange(len(CONT)), [CONT.index(f) for f in CONSTANT if f != "intensity"])  # width, height
+    mu = np.where(new[..., None] | (fresh_look[..., None] & look), np.asarray(noise.prior_mean), mean)
+    tracked = kind == TRACKED
+    hit = tracked & contact if contact is not None else np.zeros_like(tracked)
+    sig = np.select([hit[..., None], tracked[..., None], (kind == RETURNING)[..., None]],
+                    [np.asarray(noise.sigma_contact), np.asarray(noise.sigma), np.asarray(noise.sigma_return)],
+                    np.asarray(noise.prior_sigma))
+    sig = np.where(fresh_look[..., None] & look, np.asarray(noise.prior_sigma), sig)
     pp = np.asarray(noise.p_present)[kind] if p_present is None else p_present
     pp = np.clip(pp, 1e-6, 1 - 1e-6)
     nll = -np.where(pres, np.log(pp), np.log1p(-pp))  # (B, T, K)
@@ -199,15 +216,44 @@ def score(batch: Batch, mean: np.ndarray, kind: np.ndarray, noise: Noise,
     circ = batch.states[..., batch.feature("is_circle")] > 0.5
     if circle_mem is None:
         circle_mem = np.zeros_like(circ)
-    p_shape = np.where(kind == NEW, np.where(circ, noise.p_circle, 1 - noise.p_circle),
+    p_shape = np.where(fresh_look, np.where(circ, noise.p_circle, 1 - noise.p_circle),
                        np.where(circ == circle_mem, noise.p_keep, 1 - noise.p_keep))
     nll = nll + np.where(pres, cont - np.log(np.clip(p_shape, 1e-9, 1)), 0.0)
-    out = nll.sum(-1)  # (B, T)
+    out = nll if per_slot else nll.sum(-1)  # (B, T, K) or (B, T)
     out[:, 0] = np.nan
     return out
 
 
-def fit_noise(batch: Batch, mean: np.ndarray, kind: np.ndarray, circle_mem: np.ndarray) -> Noise:
+def robust_sigma(r: np.ndarray, iters: int = 50, floor: float = 1e-3) -> np.ndarray:
+    """Maximum-likelihood sigma per ``CONT`` feature under the robust mixture, by EM.
+
+    Why not the RMS: the likelihood is ``(1 - OUTLIER) N(0, sigma^2) + OUTLIER Uniform(RANGE)``,
+    and its maximum-likelihood sigma ignores what the uniform component explains. The RMS lets a
+    few mispredicted contacts set sigma for every frame, so a well-predicted object would cost
+    several nats per frame merely for being in view, and clips that show objects for longer would
+    look more surprising whatever happens in them.
+
+    Args:
+        r: ``(N, 9)`` residuals.
+
+    Returns:
+        ``(9,)`` sigmas, at least ``floor``.
+    """
+    lo, hi = np.asarray(RANGE).T
+    u = OUTLIER / (hi - lo)  # (9,) outlier density
+    sig = np.maximum(np.sqrt((r ** 2).mean(0)), floor)
+    for _ in range(iters):
+        g = (1 - OUTLIER) * np.exp(-0.5 * (r / sig) ** 2) / (sig * np.sqrt(2 * np.pi))  # (N, 9)
+        resp = g / (g + u)
+        new = np.maximum(np.sqrt((resp * r ** 2).sum(0) / np.maximum(resp.sum(0), 1e-12)), floor)
+        if np.allclose(new, sig, rtol=1e-4):
+            break
+        sig = new
+    return sig
+
+
+def fit_noise(batch: Batch, mean: np.ndarray, kind: np.ndarray, circle_mem: np.ndarray,
+              contact: np.ndarray | None = None) -> Noise:
     """Maximum-likelihood noise for a point predictor on (possible) clips ``batch``."""
     idx = cont_index(batch.feature_names)
     obs = batch.states[..., idx].astype(np.float64)
@@ -215,13 +261,16 @@ def fit_noise(batch: Batch, mean: np.ndarray, kind: np.ndarray, circle_mem: np.n
     pres[:, 0] = False  # frame 0 is not scored
     d = Noise()
 
-    def rms(sel: np.ndarray, default: tuple[float, ...], ref: np.ndarray) -> tuple[float, ...]:
+    def rms(sel: np.ndarray, default: tuple[float, ...], ref: np.ndarray, robust: bool = True) -> tuple[float, ...]:
         if sel.sum() < 5:
             return default
         r = residuals(obs[sel], ref[sel])
-        return tuple(float(v) for v in np.maximum(np.sqrt((r ** 2).mean(0)), 1e-3))
+        if not robust:  # the spread of a population (new objects), not a predictor's error
+            return tuple(float(v) for v in np.maximum(np.sqrt((r ** 2).mean(0)), 1e-3))
+        return tuple(float(v) for v in robust_sigma(r))
 
     tracked, ret, new = (pres & (kind == k) for k in (TRACKED, RETURNING, NEW))
+    hit = tracked & contact if contact is not None else np.zeros_like(tracked)
     prior_mean = tuple(float(v) for v in obs[new].mean(0)) if new.sum() >= 5 else d.prior_mean
     pm = np.broadcast_to(np.asarray(prior_mean), obs.shape)
     p_present = []
@@ -232,7 +281,8 @@ def fit_noise(batch: Batch, mean: np.ndarray, kind: np.ndarray, circle_mem: np.n
     circ = batch.states[..., batch.feature("is_circle")] > 0.5
     known = pres & (kind != NEW)
     keep = float((np.sum(circ[known] == circle_mem[known]) + 1) / (known.sum() + 2))
-    return Noise(sigma=rms(tracked, d.sigma, mean), sigma_return=rms(ret, d.sigma_return, mean),
-                 prior_mean=prior_mean, prior_sigma=rms(new, d.prior_sigma, pm),
+    return Noise(sigma=rms(tracked & ~hit, d.sigma, mean), sigma_return=rms(ret, d.sigma_return, mean),
+                 sigma_contact=rms(hit, d.sigma_contact, mean),
+                 prior_mean=prior_mean, prior_sigma=rms(new, d.prior_sigma, pm, robust=False),
                  p_present=tuple(p_present),
                  p_circle=float((circ[new].sum() + 1) / (new.sum() + 2)), p_keep=keep)

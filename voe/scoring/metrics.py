@@ -12,9 +12,12 @@ Definitions (S = summed surprise in nats):
 * **AUROC** over all clips: P(an impossible clip's total surprise > a possible clip's), ties 0.5.
 
 Frames a model does not score (NaN) are dropped from *every* clip of a set before summing, so the
-compared sums always cover the same frames. Two sums closer than ``TIE_RTOL`` (relative) are a tie:
-a frame-only scorer on a spliced quadruplet must tie exactly, and float rounding must not break
-the tie in its favour (the "null submission scores perfectly" bug of the field).
+compared sums always cover the same frames. Two sums closer than ``TIE_RTOL`` (relative) or
+``TIE_ATOL`` nats are a tie: a frame-only scorer on a spliced quadruplet must tie exactly, and float
+rounding must not break the tie in its favour (the "null submission scores perfectly" bug of the
+field). A hundredth of a nat over whole clips is a likelihood ratio of 1.01: differences that small
+come from float rounding and simulator round-off (a physics model re-simulating a spliced clip's
+hidden object with the other clip's shape), not from anything a model has understood.
 """
 
 from __future__ import annotations
@@ -24,12 +27,13 @@ from dataclasses import dataclass
 import numpy as np
 
 TIE_RTOL = 1e-9
+TIE_ATOL = 0.01  # nats
 
 
 def compare(s_imp: np.ndarray | float, s_pos: np.ndarray | float) -> np.ndarray:
-    """1 where ``s_imp > s_pos``, 0.5 on a tie (within ``TIE_RTOL``), 0 where below."""
+    """1 where ``s_imp > s_pos``, 0.5 on a tie (within ``TIE_RTOL`` or ``TIE_ATOL``), 0 where below."""
     a, b = np.asarray(s_imp, dtype=np.float64), np.asarray(s_pos, dtype=np.float64)
-    tol = TIE_RTOL * (np.abs(a) + np.abs(b)) + 1e-300
+    tol = TIE_RTOL * (np.abs(a) + np.abs(b)) + TIE_ATOL
     return np.where(np.abs(a - b) <= tol, 0.5, np.where(a > b, 1.0, 0.0))
 
 
@@ -61,7 +65,7 @@ def score_set(traces: np.ndarray, impossible: np.ndarray) -> SetScore:
     # Sum the per-frame difference so that identical frames cancel exactly (a + b == b + a).
     diff = float((x[imp].sum(axis=0) - x[~imp].sum(axis=0)).sum())
     s_imp, s_pos = float(x[imp].sum()), float(x[~imp].sum())
-    tol = TIE_RTOL * (abs(s_imp) + abs(s_pos))
+    tol = TIE_RTOL * (abs(s_imp) + abs(s_pos)) + TIE_ATOL
     acc = 0.5 if abs(diff) <= tol else (1.0 if diff > 0 else 0.0)
     if x.shape[1]:
         peak = x.max(axis=1)  # (n_clips,)

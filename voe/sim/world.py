@@ -116,6 +116,11 @@ class World:
         b.voe_gravity = on
         b.velocity_func = pymunk.Body.update_velocity if on else _no_gravity
 
+    def set_elasticity(self, slot: int, elasticity: float) -> None:
+        """Change how bouncy an object is (above 1, its bounces gain energy)."""
+        for s in self.body(slot).shapes:
+            s.elasticity = elasticity
+
     def set_velocity(self, slot: int, vx: float, vy: float, omega: float | None = None) -> None:
         b = self.body(slot)
         b.velocity = (vx, vy)
