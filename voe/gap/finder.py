@@ -8,7 +8,7 @@ code. Episodes are split chronologically: the last third is held out, the rest t
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -19,9 +19,10 @@ from voe.gap.effects import EFFECTS
 from voe.gap.effects.base import Effect, EffectSum, FitContext
 from voe.gap.fit import FitConfig, Fitter
 from voe.gap.locate import locate, window_z
+from voe.gap.prefit import flight_samples
 from voe.gap.recordings import Episode, load_recordings
 from voe.gap.scene import load_scene, resolve_joints
-from voe.gap.search import candidate_gains, greedy
+from voe.gap.search import candidate_gains, greedy, null_threshold
 from voe.gap.shooting import Shooter, Window, choose_half, make_windows, noise_floor
 from voe.gap.synth import null_like
 from voe.gap.verify import explain, verify
@@ -38,10 +39,11 @@ class GapConfig:
     locate_window: float = 1.0
     substep: float | None = None  # default 1 ms, 0.5 ms for scenes with joints
     fit_budget: float = 8.0
-    test_budget: float = 10.0
+    test_budget: float = 20.0  # held-out windows are simulated once per candidate: cheap, and many steady the gain
     null_budget: float = 6.0
-    min_gain: float = 0.05
-    null_safety: float = 2.0
+    min_gain: float = 0.05  # practical floor: a held-out gain (search.window_gain) below 5 % is never accepted
+    null_alpha: float = 0.05  # the threshold is the null's best gain at this upper quantile
+    gain_lower_q: float | None = 0.05  # the gain's bootstrap quantile over held-out windows must be > 0
     z_min: float = 5.0
     fit: FitConfig = FitConfig()
 
@@ -93,11 +95,13 @@ class GapFinder:
         z_null = window_z(null_shooter, loc_all, self.sigma_).max(axis=(1, 2))  # (W,)
         self.z_threshold_ = float(max(cfg.z_min, np.quantile(z_null, 0.95)))
         self.z_strong_ = float(max(cfg.z_min, np.max(z_null)))
-        nf = Fitter(null_shooter, self.sigma_, *self._split(null_eps, train_ids, test_ids, rng, cfg.null_budget), ctx, cfg.fit)
-        _, null_gains = candidate_gains(nf, candidates, None, np.zeros(0), nf.heldout(None, None),
-                                        lambda k: note(f"null: {k}"))
+        null_ctx = replace(ctx, flight=flight_samples(self.scene_, null_eps))  # the null's own starts
+        nf = Fitter(null_shooter, self.sigma_, *self._split(null_eps, train_ids, test_ids, rng, cfg.null_budget), null_ctx, cfg.fit)
+        null_results, null_gains = candidate_gains(nf, candidates, None, np.zeros(0), nf.heldout_sse(None, None),
+                                                   lambda k: note(f"null: {k}"))
         self.null_gains_ = {k: round(v, 4) for k, v in null_gains.items() if np.isfinite(v)}
-        self.threshold_ = float(max(cfg.min_gain, cfg.null_safety * max(null_gains.values(), default=0.0)))
+        q, self.null_best_ = null_threshold(nf.heldout_sse(None, None), null_results, cfg.null_alpha, self.seed)
+        self.threshold_ = float(max(cfg.min_gain, q, max(null_gains.values(), default=0.0)))
 
         # 2. locate
         note("locate")
@@ -111,7 +115,7 @@ class GapFinder:
         train_w, test_w = self._split(self.episodes_, train_ids, test_ids, rng, cfg.fit_budget, cfg.test_budget)
         fitter = Fitter(shooter, self.sigma_, train_w, test_w, ctx, cfg.fit)
         effect, params, self.rounds_ = greedy(fitter, candidates, self.threshold_, self.max_effects, contexts,
-                                              lambda k: note(f"fit: {k}"))
+                                              lambda k: note(f"fit: {k}"), cfg.gain_lower_q)
         self.effect_, self.params_ = effect, params
         self.groups_ = [r.group for r in self.rounds_ if r.winner]
         self.effects_ = _effect_dicts(effect, params, self.scene_)
@@ -148,7 +152,9 @@ class GapFinder:
         return {"verdict": self.verdict_, "located": self.located_, "effects": self.effects_, "fit": self.fit_,
                 "explanation": self.explanation_, "groups": self.groups_,
                 "null": {"gains": self.null_gains_, "threshold_gain": self.threshold_, "z_threshold": self.z_threshold_,
-                         "z_max": self.z_strong_},
+                         "z_max": self.z_strong_, "alpha": self.config.null_alpha,
+                         "best_gain_quantiles": {str(q): float(np.quantile(self.null_best_, q)) if self.null_best_.size
+                                                 else None for q in (0.5, 0.95, 0.99)}},
                 "rounds": [{"before": r.before, "winner": r.winner, "group": r.group,
                             "gains": {k: (round(g, 4) if np.isfinite(g) else None) for k, g in r.gains.items()}}
                            for r in self.rounds_],
@@ -192,7 +198,8 @@ def _context(scene: SceneSpec, episodes: list[Episode]) -> FitContext:
     pos = np.concatenate([e.pose[:, :, :2].reshape(-1, 2) for e in episodes])
     vel = np.concatenate([np.diff(e.pose, axis=0).reshape(-1, 3) / np.median(np.diff(e.t)) for e in episodes])
     return FitContext(scene, pos.min(axis=0), pos.max(axis=0),
-                      float(np.median(np.linalg.norm(vel[:, :2], axis=1))), float(np.median(np.abs(vel[:, 2]))))
+                      float(np.median(np.linalg.norm(vel[:, :2], axis=1))), float(np.median(np.abs(vel[:, 2]))),
+                      flight_samples(scene, episodes))
 
 
 def _candidates(names: list[str], scene: SceneSpec) -> dict[str, Effect]:

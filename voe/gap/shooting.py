@@ -16,6 +16,7 @@ import numpy as np
 
 from voe.gap.effects.base import Effect
 from voe.gap.recordings import Episode
+from voe.gap.rollout import run
 from voe.sim.scenefile import SceneSpec, SimWorld
 
 HALF = 7  # samples on each side for the velocity fit
@@ -122,15 +123,9 @@ class Shooter:
         pose0, vel0, _ = self.initial(win.ep, win.k0)
         mats = effect.materials(params, self.scene) if effect is not None else None
         world = SimWorld(self.scene, pose0, vel0, mats)
-        force_fn = None
-        if effect is not None and effect.has_forces:
-            scene = self.scene
-
-            def force_fn(state, _e=effect, _p=params):
-                return _e.forces(state, _p, scene)
-
+        force = effect.prepare(params, self.scene) if effect is not None else None
         self.n_rollouts += 1
-        return world.run(ep.t[win.k0:win.k1 + 1], self.substep, force_fn)
+        return run(world, ep.t[win.k0:win.k1 + 1], self.substep, force)
 
     def residual(self, win: Window, effect: Effect | None, params: np.ndarray | None) -> np.ndarray:
         """Prediction minus recording, (n, B, 3), angle converted to metres by sqrt(I/m)."""

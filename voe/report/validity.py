@@ -83,6 +83,13 @@ def reading(matrix: pd.DataFrame) -> str:
                  "to examine: a lesion that fails to break its own concept means the probe can be "
                  "solved without that law; one that breaks another concept means that probe also "
                  "depends on the lesioned law.")
+    fo = m[(m["family"] == "frame-only") & (m["condition"] == "all") & (m["expected"] == "none")]
+    if not fo.empty:  # pair concepts: frame balance is not guaranteed there, so report the numbers
+        best = fo.loc[fo.groupby("concept")["accuracy"].idxmax()]
+        text += (" On the pair-fallback concepts, where no splice balances the frames, the best "
+                 "frame-only scorer reaches " + ", ".join(f"{r.accuracy:.2f} on {concept_name(r.concept)} "
+                                                          f"({r.control})" for r in best.itertuples())
+                 + ": what a single frame gives away there.")
     return text
 
 

@@ -9,6 +9,7 @@ vector is the concatenation of its parts, so ``quadratic_drag + restitution`` is
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import ClassVar
 
@@ -26,6 +27,8 @@ class FitContext:
         lo, hi: (2,) corners of the box the recorded bodies move in.
         speed: typical recorded speed in m/s.
         omega: typical recorded angular speed in rad/s.
+        flight: free-flight samples for regression starting points
+            (``voe.gap.prefit.FlightSamples``), or None.
     """
 
     scene: SceneSpec
@@ -33,6 +36,7 @@ class FitContext:
     hi: np.ndarray
     speed: float
     omega: float
+    flight: object | None = None
 
 
 class Effect:
@@ -104,6 +108,25 @@ class Effect:
     def has_forces(self) -> bool:
         return type(self)._forces is not Effect._forces
 
+    def prepare(self, params: np.ndarray, scene: SceneSpec) -> Callable[[SimState], tuple[np.ndarray, np.ndarray]] | None:
+        """``forces`` with the parameters checked and the body mask built once (None if no forces).
+
+        Why: a rollout calls the force function every few milliseconds of simulated time.
+        """
+        if not self.has_forces:
+            return None
+        p, hook = self.check(params), self._forces
+        m = self.mask(scene)
+        if m.all():
+            return lambda st: hook(st, p)
+        mf = m.astype(float)
+
+        def masked(st: SimState) -> tuple[np.ndarray, np.ndarray]:
+            f, tau = hook(st, p)
+            return f * mf[:, None], tau * mf
+
+        return masked
+
     def _forces(self, state: SimState, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return np.zeros_like(state.pos), np.zeros_like(state.angle)
 
@@ -139,6 +162,23 @@ class EffectSum(Effect):
     @property
     def has_forces(self) -> bool:
         return any(e.has_forces for e in self._parts)
+
+    def prepare(self, params: np.ndarray, scene: SceneSpec) -> Callable[[SimState], tuple[np.ndarray, np.ndarray]] | None:
+        fns = [f for e, p in zip(self._parts, self.split(params), strict=True)
+               if (f := e.prepare(p, scene)) is not None]
+        if not fns:
+            return None
+        if len(fns) == 1:
+            return fns[0]
+
+        def total(st: SimState) -> tuple[np.ndarray, np.ndarray]:
+            f, tau = fns[0](st)
+            for fn in fns[1:]:
+                fe, te = fn(st)
+                f, tau = f + fe, tau + te
+            return f, tau
+
+        return total
 
     def split(self, params: np.ndarray) -> list[np.ndarray]:
         """Cut the concatenated vector into one vector per part."""

@@ -1,0 +1,121 @@
+"""Regression starting points, the fast rollout, the bootstrap null threshold and bench helpers."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from voe.gap.bench import ball_hits_box, clopper_pearson, param_error, plan
+from voe.gap.effects import EFFECTS
+from voe.gap.finder import _context
+from voe.gap.fit import FitResult, Fitter, extend
+from voe.gap.prefit import flight_samples
+from voe.gap.rollout import run
+from voe.gap.search import null_threshold, window_gain
+from voe.gap.shooting import Shooter, make_windows, noise_floor
+from voe.sim.scenefile import BodySpec, SceneSpec, SimWorld
+
+from .conftest import flight_episodes
+
+ATTRACTOR = [2.0, 3.0, -0.5]  # k, px, py: beside the throws, 2-4 m away
+
+
+def test_fast_rollout_matches_simworld_run_exactly():
+    scene, eps = flight_episodes(n=1, duration=0.5)
+    eff = EFFECTS.get("quadratic_drag")() + EFFECTS.get("angular_damping")()
+    p = np.array([0.2, 1e-3])
+    pose0, vel0 = eps[0].pose[0], np.array([[3.0, 4.0, 2.0]])
+    ref = SimWorld(scene, pose0, vel0).run(eps[0].t, 1e-3, lambda st: eff.forces(st, p, scene))
+    fast = run(SimWorld(scene, pose0, vel0), eps[0].t, 1e-3, eff.prepare(p, scene))
+    np.testing.assert_array_equal(fast, ref)
+
+
+def test_flight_accelerations_locate_a_point_attractor():
+    scene, eps = flight_episodes("point_attractor", ATTRACTOR, n=4, duration=1.5, seed=4)
+    ctx = _context(scene, eps)
+    assert ctx.flight is not None and len(ctx.flight) > 200
+    eff = EFFECTS.get("point_attractor")()
+    _, starts = extend(None, np.zeros(0), eff, ctx)
+    assert len(starts) <= 3  # the 18-point grid is replaced by regression fits
+    np.testing.assert_allclose(starts[0][1:], ATTRACTOR[1:], atol=0.15)
+
+
+def test_point_attractor_fit_stays_in_its_valley():
+    # scipy's bounded Powell moved this fit 2 m away to a worse cost; the fit must never get worse
+    scene, eps = flight_episodes("point_attractor", ATTRACTOR, n=4, duration=1.5, seed=4)
+    sh = Shooter(scene, eps, 1e-3, 8)
+    ctx = _context(scene, eps)
+    fitter = Fitter(sh, noise_floor(eps), make_windows(eps, [0, 1, 2], 1.0), make_windows(eps, [3], 1.0), ctx)
+    eff = EFFECTS.get("point_attractor")()
+    _, starts = extend(None, np.zeros(0), eff, ctx)
+    res = fitter.fit(eff, starts)
+    assert res.train_cost <= fitter.cost(eff, starts[0]) + 1e-9
+    assert res.train_cost < 0.5 * fitter.cost(None, None)
+    np.testing.assert_allclose(res.params[1:], ATTRACTOR[1:], atol=0.25)
+
+
+def test_flight_samples_need_flight():
+    scene = SceneSpec((0.0, -9.81), (BodySpec("ball", "circle", mass=1.0, radius=0.1),))
+    _, eps = flight_episodes(n=1, duration=0.1)
+    assert flight_samples(scene, eps) is None  # 11 samples: shorter than one fitting span
+
+
+def _result(sse):
+    return FitResult(EFFECTS.get("linear_drag")(), np.zeros(1), 0.0, 0.0, np.asarray(sse, float))
+
+
+def test_window_gain_is_one_minus_the_geometric_mean_rmse_ratio():
+    before = np.ones(4)
+    # one window's RMSE halves (SSE / 4), three stay: ratio (0.5 * 1 * 1 * 1) ** (1 / 4) = 0.8409
+    assert abs(window_gain(before, np.array([0.25, 1.0, 1.0, 1.0])) - (1 - 0.5 ** 0.25)) < 1e-12
+    # a chaotic window cannot dominate: its RMSE 10x worse, three others 10x better -> a gain
+    # of 1 - (10 * 0.1 ** 3) ** (1 / 4) = 68 %, where the pooled RMSE is 5x worse
+    g = window_gain(before, np.array([100.0, 0.01, 0.01, 0.01]))
+    assert abs(g - (1 - (10 * 0.1**3) ** 0.25)) < 1e-12
+    assert window_gain(before, np.array([np.nan, 1, 1, 1])) == -np.inf  # a blown-up rollout fails
+
+
+def test_null_threshold_is_the_quantile_of_the_best_candidate():
+    before = np.ones(8)
+    same = {"a": _result(np.ones(8))}
+    thr, dist = null_threshold(before, same)
+    assert thr == 0.0 and np.all(dist == 0.0)
+    # halving every window's squared error is a gain of 1 - sqrt(1/2) in every resample
+    half = {"a": _result(np.ones(8)), "b": _result(0.5 * np.ones(8))}
+    thr, _ = null_threshold(before, half)
+    assert abs(thr - (1 - np.sqrt(0.5))) < 1e-12
+    # one lucky window: the 95 % quantile sits well above the median
+    lucky = {"a": _result(np.r_[np.ones(7), 0.0])}
+    thr, dist = null_threshold(before, lucky)
+    assert thr > np.median(dist) > 0
+
+
+def test_clopper_pearson_worked_examples():
+    lo, hi = clopper_pearson(0, 20)
+    assert lo == 0.0 and abs(hi - (1 - 0.025 ** (1 / 20))) < 1e-12  # 16.8 %
+    lo, hi = clopper_pearson(20, 20)
+    assert hi == 1.0 and abs(lo - 0.025 ** (1 / 20)) < 1e-12
+
+
+def test_plan_tops_clean_cases_up_to_twenty():
+    todo = plan(33)
+    assert sum(t == "none" for _, t in todo) == 20 and len(todo) == 33 + 17
+    assert len({s for s, _ in todo}) == len(todo)
+    assert sum(t == "none" for _, t in plan(33, clean=0)) == 3
+
+
+def test_ball_hits_box_needs_a_closing_contact():
+    scene = SceneSpec((0.0, -9.81), (BodySpec("ball", "circle", mass=1.0, radius=0.1),
+                                     BodySpec("box", "box", mass=1.0, size=(0.3, 0.2))))
+    t = np.arange(101) / 100
+    pose = np.zeros((101, 2, 3))
+    pose[:, 0, 0] = -1.0 + 2.0 * t  # ball moves right at 2 m/s, touches the box at x = -0.25
+    pose[:, 0, 0] = np.minimum(pose[:, 0, 0], -0.25)
+    assert ball_hits_box(scene, t, pose)
+    pose[:, 0, 0] = -1.0 + 0.5 * t  # at 0.5 m/s it never arrives
+    assert not ball_hits_box(scene, t, pose)
+
+
+def test_mass_error_compares_the_mass_ratio():
+    found = {"params": {"scale": 0.5}, "bodies": ["ball"]}
+    assert param_error("mass", np.array([2.0]), found, ("box",)) == 0.0  # ball x 0.5 == box x 2
+    assert abs(param_error("mass", np.array([0.5]), found, ("ball",))) == 0.0

@@ -1,0 +1,155 @@
+"""Starting points for force effects from the accelerations seen in free flight.
+
+Why: a force effect with a position parameter (a point attractor, a spring anchor) has a
+multiple-shooting cost full of local minima: started far from the point, the search settles on
+"a far-away attractor", which is a constant acceleration. In free flight the nominal model
+predicts the acceleration exactly (gravity), so what the recordings show beyond gravity *is* the
+missing force per unit mass, sampled at known positions and velocities. Fitting an effect's force
+law to those samples is a cheap regression (no simulation), and its result is a starting point
+near the answer for the simulator fit, which alone decides. Samples come from a Savitzky-Golay
+fit of each flight stretch; bodies on joints or in contact are left out, because there the
+nominal acceleration is not known without simulating.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import least_squares
+from scipy.signal import savgol_filter
+
+from voe.gap.context import frame_labels
+from voe.gap.effects.base import Effect, EffectSum
+from voe.gap.recordings import Episode
+from voe.sim.scenefile import SceneSpec, SimState
+
+HALF = 12  # samples each side of the Savitzky-Golay fit (0.25 s at 100 Hz)
+MIN_SAMPLES = 30
+MAX_SAMPLES = 3000  # a regression start needs no more; keeps the multi-start cheap
+
+
+@dataclass(frozen=True)
+class FlightSamples:
+    """Free-flight samples of all bodies: state and the acceleration beyond gravity.
+
+    Attributes:
+        state: stacked states, one row per sample (N rows in place of B bodies).
+        body: (N,) index of the body each row belongs to.
+        dacc: (N, 2) recorded minus nominal linear acceleration, m/s^2.
+        dalpha: (N,) recorded minus nominal angular acceleration, rad/s^2.
+        gyration: (N,) sqrt(I/m) of the row's body (turns angular terms into metres).
+    """
+
+    state: SimState
+    body: np.ndarray
+    dacc: np.ndarray
+    dalpha: np.ndarray
+    gyration: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.body)
+
+
+def flight_samples(scene: SceneSpec, episodes: list[Episode], half: int = HALF,
+                   rng: np.random.Generator | None = None) -> FlightSamples | None:
+    """Collect free-flight samples whose whole fitting span is in flight; None if too few."""
+    jointed = scene.jointed()
+    g = np.asarray(scene.gravity, dtype=float)
+    rows: dict[str, list] = {k: [] for k in ("pos", "vel", "ang", "om", "acc", "alpha", "body")}
+    for ep in episodes:
+        t_len = len(ep.t)
+        if t_len < 2 * half + 1:
+            continue
+        dt = float(np.median(np.diff(ep.t)))
+        labels = frame_labels(scene, ep)  # (T, B)
+        kw = {"window_length": 2 * half + 1, "polyorder": 3, "axis": 0, "delta": dt, "mode": "interp"}
+        pose = savgol_filter(ep.pose, deriv=0, **kw)  # (T, B, 3)
+        vel = savgol_filter(ep.pose, deriv=1, **kw)
+        acc = savgol_filter(ep.pose, deriv=2, **kw)
+        for b in range(ep.pose.shape[1]):
+            if jointed[b]:
+                continue
+            fl = (labels[:, b] == "flight").astype(float)
+            ok = np.convolve(fl, np.ones(2 * half + 1), mode="same") >= 2 * half + 1  # whole span in flight
+            ok[:half] = ok[t_len - half:] = False
+            k = np.flatnonzero(ok)
+            rows["pos"].append(pose[k, b, :2])
+            rows["vel"].append(vel[k, b, :2])
+            rows["ang"].append(pose[k, b, 2])
+            rows["om"].append(vel[k, b, 2])
+            rows["acc"].append(acc[k, b, :2] - g)
+            rows["alpha"].append(acc[k, b, 2])
+            rows["body"].append(np.full(len(k), b))
+    if not rows["body"] or sum(len(b) for b in rows["body"]) < MIN_SAMPLES:
+        return None
+    cat = {k: np.concatenate(v) for k, v in rows.items()}
+    n = len(cat["body"])
+    if n > MAX_SAMPLES:
+        pick = np.sort((rng or np.random.default_rng(0)).choice(n, MAX_SAMPLES, replace=False))
+        cat = {k: v[pick] for k, v in cat.items()}
+    body = cat["body"]
+    mass = np.array([b.mass for b in scene.bodies])[body]
+    moment = np.array([b.moment_value() for b in scene.bodies])[body]
+    gyr = np.array([b.gyration_radius for b in scene.bodies])[body]
+    no_contact = np.zeros(len(body), dtype=bool)
+    state = SimState(cat["pos"], cat["vel"], cat["ang"], cat["om"], mass, moment, g, lambda: no_contact)
+    return FlightSamples(state, body, cat["acc"], cat["alpha"], gyr)
+
+
+def _missing(effect: Effect, params: np.ndarray, s: FlightSamples, scene: SceneSpec) -> tuple[np.ndarray, np.ndarray]:
+    """Acceleration (N, 2) and angular acceleration (N,) that ``effect`` adds at the samples."""
+    parts = effect.parts
+    split = effect.split(params) if isinstance(effect, EffectSum) else [params]
+    acc, alpha = np.zeros_like(s.dacc), np.zeros_like(s.dalpha)
+    for e, p in zip(parts, split, strict=True):
+        if not e.has_forces:
+            continue
+        f, tau = e._forces(s.state, e.check(p))
+        m = e.mask(scene)[s.body]  # (N,)
+        acc += f * (m / s.state.mass)[:, None]
+        alpha += tau * m / s.state.moment
+    return acc, alpha
+
+
+def prefit_starts(cand: Effect, starts: list[np.ndarray], lo: np.ndarray, hi: np.ndarray, scale: np.ndarray,
+                  samples: FlightSamples | None, scene: SceneSpec, current: Effect | None = None,
+                  current_params: np.ndarray | None = None, keep: int = 2) -> list[np.ndarray]:
+    """The ``keep`` best distinct regression fits of ``cand`` to the flight accelerations left
+    unexplained by ``current``, each started from one of ``starts``; [] if not applicable."""
+    if samples is None or not cand.has_forces or len(samples) < MIN_SAMPLES:
+        return []
+    dacc, dalpha = samples.dacc, samples.dalpha
+    if current is not None and current_params is not None and current_params.size:
+        a0, al0 = _missing(current, current_params, samples, scene)
+        dacc, dalpha = dacc - a0, dalpha - al0
+    # robust scale of the acceleration noise, so the soft-L1 knee sits at a few noise sigmas
+    noise = 1.4826 * np.median(np.abs(dacc - np.median(dacc, axis=0)))
+    gyr = samples.gyration
+
+    def resid(p: np.ndarray) -> np.ndarray:
+        a, al = _missing(cand, p, samples, scene)
+        return np.concatenate([(a - dacc).reshape(-1), (al - dalpha) * gyr])
+
+    lo_f = np.where(np.isfinite(lo), lo, -1e6)
+    hi_f = np.where(np.isfinite(hi), hi, 1e6)
+    fits = []
+    for s in starts:
+        x0 = np.clip(s, lo_f, hi_f)
+        x0 = np.where(x0 <= lo_f, lo_f + 1e-9 * np.maximum(1, np.abs(lo_f)), x0)
+        x0 = np.where(x0 >= hi_f, hi_f - 1e-9 * np.maximum(1, np.abs(hi_f)), x0)
+        try:
+            r = least_squares(resid, x0, bounds=(lo_f, hi_f), x_scale=scale, loss="soft_l1",
+                              f_scale=max(3 * noise, 1e-3), max_nfev=60)
+        except ValueError:
+            continue
+        if np.all(np.isfinite(r.x)) and np.isfinite(r.cost):
+            fits.append((float(r.cost), r.x))
+    fits.sort(key=lambda c: c[0])
+    out: list[np.ndarray] = []
+    for _, x in fits:
+        if all(np.any(np.abs(x - y) > 0.1 * scale) for y in out):
+            out.append(x)
+        if len(out) >= keep:
+            break
+    return out
