@@ -26,13 +26,10 @@ import numpy as np
 
 from voe.concepts.base import Concept, Context
 from voe.concepts.branch import edited, pair, rollout
-from voe.concepts.parts import FLOOR_Y, floor, screen
+from voe.concepts.parts import FLOOR_Y, PILLAR, G, floor, screen
 from voe.sim.rollout import Recording
 from voe.sim.scene import Body, Scene
 from voe.sim.world import World
-
-G = 9.81
-PILLAR = 12.0  # height of the occluded sets' screen: above the window's top
 
 
 class Gravity(Concept):

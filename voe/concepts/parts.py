@@ -14,6 +14,8 @@ from voe.sim.rollout import Recording
 from voe.sim.scene import Body, Occluder, Segment
 
 FLOOR_Y = 0.6  # top surface of the floor
+G = 9.81  # the probes' gravity (units/s^2), as ``Scene.gravity``'s default
+PILLAR = 12.0  # height of a pillar screen: above the window's top, so it hides whatever passes behind
 FLOOR = Segment((-20.0, FLOOR_Y - 0.1), (30.0, FLOOR_Y - 0.1), 0.1, 0.0, 0.5, "floor")
 
 

@@ -21,12 +21,11 @@ import numpy as np
 
 from voe.concepts.base import Concept, Context
 from voe.concepts.branch import edited, first_difference, pair, rollout
-from voe.concepts.parts import FLOOR_Y, floor
+from voe.concepts.parts import FLOOR_Y, G, floor
 from voe.sim.rollout import Recording
 from voe.sim.scene import Body, Occluder, Scene, Segment
 from voe.sim.world import World
 
-G = 9.81
 BAR_R = 0.1  # shelf / wall half thickness
 TOP = 7.2  # the main event stays below the distractor lane
 

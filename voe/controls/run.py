@@ -97,19 +97,25 @@ def build_control(ctrl: Control, setup: ControlSetup, say: Callable[[str], None]
     return load_model(ctrl.model, dict(ctrl.args), ckpt), ckpt
 
 
-def _score_control(job: tuple[Control, Path, ControlSetup, Path]) -> str:
-    """Build one control and score it (a worker of ``run_controls``); returns its name."""
+def _quiet(_: str) -> None:
+    """``say`` of worker processes: their progress is the parent's bar over controls."""
+
+
+def _score_control(job: tuple[Control, Any, ControlSetup, Path], say: Callable[[str], None] = _quiet,
+                   tick: Callable[[int], None] | None = None, single_thread: bool = True) -> str:
+    """Build one control and score it on ``job``'s probes (a probe set or its path); returns its
+    name. The unit of work of ``run_controls``, in a worker process or in the parent."""
     import sys
 
     from voe.scoring.score import score_probe_set
 
     ctrl, probes, setup, out = job
-    model, ckpt = build_control(ctrl, setup, lambda s: None)
-    if "torch" in sys.modules:  # two workers share two cores
+    model, ckpt = build_control(ctrl, setup, say)
+    if single_thread and "torch" in sys.modules:  # two workers share two cores
         sys.modules["torch"].set_num_threads(1)
     model.name = ctrl.name  # the matrix row label
     score_probe_set(model, probes, out, model_ref=ctrl.model, model_args=dict(ctrl.args),
-                    checkpoint=ckpt, batch_size=32, overwrite=True)
+                    checkpoint=ckpt, batch_size=32, overwrite=True, progress=tick)
     return ctrl.name
 
 
@@ -124,7 +130,6 @@ def run_controls(controls: Sequence[Control], probes: Path, setup: ControlSetup,
 
     from voe.cli.common import progress
     from voe.io.probeset import load_probe_set
-    from voe.scoring.score import score_probe_set
 
     ps = load_probe_set(probes)
     names = [c.name for c in controls]
@@ -149,9 +154,6 @@ def run_controls(controls: Sequence[Control], probes: Path, setup: ControlSetup,
                 tick(1)
         return runs
     for ctrl, _, _, out in todo:
-        model, ckpt = build_control(ctrl, setup, say)
-        model.name = ctrl.name  # the matrix row label
         with progress(len(ps), f"scoring {ctrl.name}", "clip") as tick:
-            score_probe_set(model, ps, out, model_ref=ctrl.model, model_args=dict(ctrl.args),
-                            checkpoint=ckpt, batch_size=32, overwrite=True, progress=tick)
+            _score_control((ctrl, ps, setup, out), say, tick, single_thread=False)
     return runs

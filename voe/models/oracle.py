@@ -69,10 +69,8 @@ class PhysicsOracle(PointPredictorAdapter):
         mean, kind, circ, pp, contact = self._predict(batch)
         nll = self._hypothesis_nll(batch, mean, kind, circ, pp, contact, self.noise, self._shape_prior(kind))
         H, B, T, K = nll.shape
-        per_slot = mixture_nll(nll.transpose(0, 1, 3, 2).reshape(H, B * K, T))  # (B * K, T)
-        out = per_slot.reshape(B, K, T).sum(axis=1)
-        out[:, 0] = np.nan
-        return out
+        per_slot = mixture_nll(nll.transpose(0, 1, 3, 2).reshape(H, B * K, T))  # (B * K, T), frame 0 NaN
+        return per_slot.reshape(B, K, T).sum(axis=1)
 
     def calibrate(self, batch: Batch) -> sl.Noise:
         """Fit the noise by maximum likelihood, each clip scored under its best hypothesis."""

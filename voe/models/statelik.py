@@ -33,6 +33,7 @@ from voe.io.batch import Batch
 
 CONT = ("x", "y", "angle", "vx", "vy", "omega", "width", "height", "intensity")
 CONSTANT = ("width", "height", "intensity")  # an object's look never changes
+_SHAPE = np.isin(CONT, ("width", "height"))  # (9,) the features ``score(shape_prior=...)`` forgets
 #: Resolution of the state observation space per ``CONT`` feature.
 QUANTUM = (0.01, 0.01, 0.01, 0.05, 0.05, 0.05, 0.01, 0.01, 0.01)
 #: Robust outlier component of every state Gaussian: its weight, and a uniform range per ``CONT``
@@ -200,14 +201,13 @@ def score(batch: Batch, mean: np.ndarray, kind: np.ndarray, noise: Noise,
     pres = batch.present
     new = kind == NEW
     fresh_look = new if shape_prior is None else new | shape_prior
-    look = np.isin(np.arange(len(CONT)), [CONT.index(f) for f in CONSTANT if f != "intensity"])  # width, height
-    mu = np.where(new[..., None] | (fresh_look[..., None] & look), np.asarray(noise.prior_mean), mean)
+    mu = np.where(new[..., None] | (fresh_look[..., None] & _SHAPE), np.asarray(noise.prior_mean), mean)
     tracked = kind == TRACKED
     hit = tracked & contact if contact is not None else np.zeros_like(tracked)
     sig = np.select([hit[..., None], tracked[..., None], (kind == RETURNING)[..., None]],
                     [np.asarray(noise.sigma_contact), np.asarray(noise.sigma), np.asarray(noise.sigma_return)],
                     np.asarray(noise.prior_sigma))
-    sig = np.where(fresh_look[..., None] & look, np.asarray(noise.prior_sigma), sig)
+    sig = np.where(fresh_look[..., None] & _SHAPE, np.asarray(noise.prior_sigma), sig)
     pp = np.asarray(noise.p_present)[kind] if p_present is None else p_present
     pp = np.clip(pp, 1e-6, 1 - 1e-6)
     nll = -np.where(pres, np.log(pp), np.log1p(-pp))  # (B, T, K)
