@@ -76,6 +76,17 @@ def test_bad_user_controls_get_one_line_errors(tmp_path):
     assert res.stderr.strip().splitlines() == [f"voe: error: controls file {tmp_path / 'missing.yaml'} does not exist"]
 
 
+def test_probes_and_world_of_different_sizes_are_refused_in_one_line(tiny, tmp_path):
+    generate_world(tmp_path / "w64", 4, 3, SimConfig(size=64))
+    res = subprocess.run([sys.executable, "-m", "voe", "validate-suite", "--probes", str(tiny / "probes"),
+                          "--world", str(tmp_path / "w64"), "--work", str(tmp_path / "work"),
+                          "--out", str(tmp_path / "out"), "--family", "frame-only"],
+                         capture_output=True, text=True, timeout=120)
+    assert res.returncode == 1
+    assert res.stderr.count("\n") == 1 and "frames but probe set" in res.stderr
+    assert not (tmp_path / "out").exists()
+
+
 @pytest.mark.parametrize(("expect", "verdict", "lo", "hi", "ok"), [
     ("pass", LEARNED, 0.7, 1.0, True), ("pass", INCONCLUSIVE, 0.4, 0.9, False),
     ("fail", NOT_LEARNED, 0.0, 0.6, True), ("fail", INCONCLUSIVE, 0.4, 0.9, False),

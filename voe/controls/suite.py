@@ -60,6 +60,12 @@ def validate_suite(out: Path, work: Path, probes: Path | None = None, world: Pat
     probes = ensure_probes(probes, work, per_concept, seed, size)
     ps = load_probe_set(probes)
     world = ensure_world(world, work, world_n, seed, ps.manifest["frame_size"][0])
+    ws = load_probe_set(world)
+    if list(ws.manifest["frame_size"]) != list(ps.manifest["frame_size"]):
+        from voe.errors import ProbeSetError
+
+        raise ProbeSetError(f"training set {world} has {ws.manifest['frame_size']} px frames but probe set "
+                            f"{probes} has {ps.manifest['frame_size']}; generate them at one --size")
     controls = builtin_controls(families) if families else builtin_controls()
     controls = [*controls, *user_controls]
     setup = ControlSetup(world=world, work=work, seed=seed, world_n=world_n, train_minutes=train_minutes,
@@ -71,7 +77,7 @@ def validate_suite(out: Path, work: Path, probes: Path | None = None, world: Pat
     matrix = specificity_matrix(controls, runs)
     provenance = {"probes": str(Path(probes).resolve()), "probes_manifest_sha256": ps.manifest_sha256,
                   "world": str(Path(world).resolve()),
-                  "world_manifest_sha256": load_probe_set(world).manifest_sha256, "seed": seed,
+                  "world_manifest_sha256": ws.manifest_sha256, "seed": seed,
                   "controls": [c.name for c in controls],
                   "versions": package_versions()}
     write_validity_report(matrix, out, provenance)
