@@ -4,11 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from voe.gap.bench import ball_hits_box, clopper_pearson, param_error, plan
+from voe.gap.bench import ball_box_gap, ball_hits_box, clopper_pearson, make_case, param_error, plan
 from voe.gap.effects import EFFECTS
 from voe.gap.finder import _context
 from voe.gap.fit import FitResult, Fitter, extend
 from voe.gap.prefit import flight_samples
+from voe.gap.recordings import Episode
 from voe.gap.rollout import run
 from voe.gap.search import null_threshold, window_gain
 from voe.gap.shooting import Shooter, make_windows, noise_floor
@@ -119,3 +120,46 @@ def test_mass_error_compares_the_mass_ratio():
     found = {"params": {"scale": 0.5}, "bodies": ["ball"]}
     assert param_error("mass", np.array([2.0]), found, ("box",)) == 0.0  # ball x 0.5 == box x 2
     assert abs(param_error("mass", np.array([0.5]), found, ("ball",))) == 0.0
+
+
+def test_half_stride_windows_overlap_and_still_skip_bad_starts():
+    t = np.arange(301) / 100
+    ep = Episode(0, t, np.zeros((301, 1, 3)))
+    assert [t[w.k0] for w in make_windows([ep], [0], 1.0)] == [0.0, 1.0, 2.0]
+    np.testing.assert_allclose([t[w.k0] for w in make_windows([ep], [0], 1.0, stride=0.5)], [0, 0.5, 1, 1.5, 2])
+    bad = np.zeros(301, bool)
+    bad[45:60] = True  # an impact near 0.5 s: that start moves to 0.6 s and the rest follow it
+    starts = [t[w.k0] for w in make_windows([ep], [0], 1.0, stride=0.5, bad_start={0: bad})]
+    np.testing.assert_allclose(starts, [0, 0.6, 1.1, 1.6, 2.1])
+
+
+def test_a_sparse_mass_is_fitted_on_the_windows_where_bodies_meet():
+    case = make_case(np.random.default_rng(32), "mass")  # bench case 32: the box is 2.67x heavier
+    eps, scene = case.episodes, case.scene
+    sh = Shooter(scene, eps, 1e-3, 7)
+    pool = make_windows(eps, list(range(8)), 1.0, stride=0.5)
+    fitter = Fitter(sh, noise_floor(eps), pool[::5], make_windows(eps, [8, 9, 10, 11], 1.0), _context(scene, eps),
+                    pool=pool)
+    eff = EFFECTS.get("mass")(bodies=("box",))
+    lo, hi = eff.bounds(fitter.ctx)
+    on = fitter.focused(eff, np.array([1.0]), lo, hi, eff.scale(fitter.ctx))
+    gaps = [ball_box_gap(scene, eps[w.ep].pose[w.k0:w.k1 + 1]).min() for w in pool]
+    assert 0 < len(on.train) <= len(fitter.train)
+    assert all(ball_box_gap(scene, eps[w.ep].pose[w.k0:w.k1 + 1]).min() < 0.01 for w in on.train)  # every one has contact
+    assert sum(g > 0.05 for g in gaps) >= 5  # ... and the pool had plenty without
+    assert fitter.focused(EFFECTS.get("linear_drag")(), np.zeros(1), *EFFECTS.get("linear_drag")().bounds(fitter.ctx),
+                          np.ones(1)) is fitter  # a global effect keeps the random subsample
+    res = fitter.fit(eff)
+    assert abs(res.params[0] / case.params[0] - 1) < 0.25
+
+
+def test_mass_may_act_only_where_bodies_come_within_reach():
+    scene = SceneSpec((0.0, -9.81), (BodySpec("ball", "circle", mass=1.0, radius=0.1),
+                                     BodySpec("box", "box", mass=1.0, size=(0.3, 0.2))))
+    pose = np.zeros((50, 2, 3))
+    pose[:, 0, 0] = np.linspace(-2.0, -1.0, 50)  # the ball stays a metre away from the box
+    mass_box = EFFECTS.get("mass")(bodies=("box",))
+    assert not mass_box.may_act(scene, pose)
+    pose[-1, 0, 0] = -0.3  # reach: ball 0.1 + box half-diagonal 0.18 + 2 cm
+    assert mass_box.may_act(scene, pose)
+    assert EFFECTS.get("linear_drag")().may_act(scene, pose[:10])  # effects that act anywhere

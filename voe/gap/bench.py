@@ -76,15 +76,21 @@ def random_effect(name: str, scene: SceneSpec, rng: np.random.Generator) -> tupl
     return np.zeros(0), None
 
 
-def ball_hits_box(scene: SceneSpec, t: np.ndarray, pose: np.ndarray, tol: float = 5e-3, min_speed: float = 1.0) -> bool:
-    """Whether the ball strikes the box (touches it closing at >= ``min_speed`` m/s) in clean
-    poses (T, B, 3), ball first, box second."""
+def ball_box_gap(scene: SceneSpec, pose: np.ndarray) -> np.ndarray:
+    """(T,) distance in metres between the ball's surface and the box, from poses (T, B, 3),
+    ball first, box second (negative when they overlap)."""
     ball, box = scene.bodies
     d = pose[:, 0, :2] - pose[:, 1, :2]  # (T, 2) ball relative to box, world frame
     c, s = np.cos(pose[:, 1, 2]), np.sin(pose[:, 1, 2])
     local = np.stack([c * d[:, 0] + s * d[:, 1], -s * d[:, 0] + c * d[:, 1]], axis=1)  # box frame
     half = np.asarray(box.size) / 2
-    gap = np.linalg.norm(local - np.clip(local, -half, half), axis=1) - ball.radius  # (T,)
+    return np.linalg.norm(local - np.clip(local, -half, half), axis=1) - ball.radius
+
+
+def ball_hits_box(scene: SceneSpec, t: np.ndarray, pose: np.ndarray, tol: float = 5e-3, min_speed: float = 1.0) -> bool:
+    """Whether the ball strikes the box (touches it closing at >= ``min_speed`` m/s) in clean
+    poses (T, B, 3), ball first, box second."""
+    gap = ball_box_gap(scene, pose)  # (T,)
     closing = -np.gradient(gap, t)  # (T,) m/s
     before = np.concatenate([[False], gap[1:] < tol]) & (np.concatenate([[np.inf], gap[:-1]]) >= tol)
     return bool(np.any(before & (np.roll(closing, 1) >= min_speed)))

@@ -87,7 +87,7 @@ def make_windows(episodes: list[Episode], which: list[int], length: float, strid
             if k0 >= len(t) - 1 or t[k1] - t[k0] < 0.8 * length:
                 break
             out.append(Window(i, k0, k1))
-            start = max(start + stride, t[k1])
+            start = max(start + stride, t[k1] if stride >= length else t[k0] + stride)
     return out
 
 

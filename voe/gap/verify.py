@@ -64,7 +64,7 @@ def explain(effects: list[dict], groups: list[list[str]], located: list[dict], v
         parts.append(f"{e['summary']}: {e['name']} ({params}) was missing")
     drop = 100 * (1 - ver.rmse_after / ver.rmse_before) if ver.rmse_before > 0 else 0.0
     text = "; ".join(parts) + (
-        f". Adding it cuts held-out error (RMSE of x, y and angle x sqrt(I/m)) on episodes {holdout} from "
+        f". Adding {'them' if len(effects) > 1 else 'it'} cuts held-out error (RMSE of x, y and angle x sqrt(I/m)) on episodes {holdout} from "
         f"{ver.rmse_before:.3g} m to {ver.rmse_after:.3g} m ({drop:.0f} % less; position only "
         f"{ver.position_rmse_before:.3g} m to {ver.position_rmse_after:.3g} m).")
     if located:

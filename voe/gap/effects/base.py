@@ -52,6 +52,7 @@ class Effect:
     units: ClassVar[tuple[str, ...]] = ()
     contexts: ClassVar[tuple[str, ...]] = ()
     summary: ClassVar[str] = ""
+    sparse: ClassVar[bool] = False  # acts in few windows only (collisions between bodies): fit where it acts
 
     def __init__(self, bodies: tuple[str, ...] | None = None) -> None:
         self.bodies = tuple(bodies) if bodies else None
@@ -91,6 +92,21 @@ class Effect:
     def bounds(self, ctx: FitContext) -> tuple[np.ndarray, np.ndarray]:
         """Lower and upper bounds, (P,) each."""
         return np.full(self.n_params, -np.inf), np.full(self.n_params, np.inf)
+
+    def may_act(self, scene: SceneSpec, pose: np.ndarray) -> bool:
+        """Whether the effect can change a window whose recorded poses are ``pose`` (n, B, 3).
+
+        A cheap geometric screen before ``Fitter.focused`` simulates; most effects act anywhere.
+        """
+        return True
+
+    def grid(self, x0: float, scale: float) -> np.ndarray:
+        """Coarse grid a one-parameter fit starts from, around ``x0``, before its bounded Brent.
+
+        Symmetric reach: a coefficient far below the nominal (friction 0.15 against 0.55) must be
+        inside the bracket. Ratio parameters (``mass``) override this with a geometric grid.
+        """
+        return x0 + scale * np.array([-10.0, -3.0, -1.0, 0.0, 1.0, 3.0, 10.0])
 
     # --- simulation hooks ------------------------------------------------------------------
     def forces(self, state: SimState, params: np.ndarray, scene: SceneSpec) -> tuple[np.ndarray, np.ndarray]:

@@ -1,7 +1,11 @@
 """Wrong mass: one body's mass and moment scaled by a factor s.
 
 Why: with gravity alone mass does not change a trajectory, but it sets the outcome of collisions
-between bodies and the motion of jointed bodies, so the finder fits it one body at a time.
+between bodies and the motion of jointed bodies, so the finder fits it one body at a time. Because
+it acts only where bodies meet, it is ``sparse``: its fit uses the training windows in which it
+changes the prediction (a random subsample held two or three collisions and settled on a mass
+ratio on the wrong side of one), and its grid is geometric (a factor of 2 heavier and lighter are
+equally far from nominal).
 """
 
 from __future__ import annotations
@@ -19,6 +23,8 @@ class Mass(Effect):
     contexts = ("impact",)
     summary = "a body is heavier or lighter than the scene says"
     per_body = True
+    sparse = True
+    RATIOS = np.array([0.3, 0.5, 0.75, 1.0, 1.35, 2.0, 3.3])  # about x1.5 apart
 
     def _materials(self, p: np.ndarray, scene: SceneSpec) -> Materials:
         m = self.mask(scene)
@@ -29,6 +35,23 @@ class Mass(Effect):
 
     def scale(self, ctx: FitContext) -> np.ndarray:
         return np.array([0.2])
+
+    def may_act(self, scene: SceneSpec, pose: np.ndarray) -> bool:
+        """Only where one of its bodies comes within 2 cm of another body's bounding circle, or
+        is jointed (with gravity and Coulomb friction alone, mass does not change a motion)."""
+        m = self.mask(scene)
+        names = {b.name for b, k in zip(scene.bodies, m, strict=True) if k}
+        if any(j.a in names or j.b in names for j in scene.joints):
+            return True
+        reach = np.array([np.max(np.linalg.norm(b.local_vertices(), axis=1)) for b in scene.bodies])  # (B,)
+        for i in np.flatnonzero(m):
+            for j in range(len(scene.bodies)):
+                if j != i and np.min(np.linalg.norm(pose[:, i, :2] - pose[:, j, :2], axis=1)) < reach[i] + reach[j] + 0.02:
+                    return True
+        return False
+
+    def grid(self, x0: float, scale: float) -> np.ndarray:
+        return x0 * self.RATIOS
 
     def bounds(self, ctx: FitContext) -> tuple[np.ndarray, np.ndarray]:
         return np.array([0.05]), np.array([20.0])
