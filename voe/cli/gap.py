@@ -33,6 +33,7 @@ def diagnose_cmd(
     max_effects: int = typer.Option(3, "--max-effects"),
     seed: int = typer.Option(0, "--seed"),
     no_figures: bool = typer.Option(False, "--no-figures", help="skip gap.md figures"),
+    jobs: int = typer.Option(2, "--jobs", min=1, help="processes fitting candidates in parallel (same result)"),
 ) -> None:
     """Locate the mismatch, name and fit the missing effects, verify on held-out episodes."""
     from tqdm import tqdm
@@ -45,7 +46,8 @@ def diagnose_cmd(
             bar.set_postfix_str(msg)
             bar.update(1)
 
-        finder = diagnose(scene, recordings, out, names, max_effects, seed, figures=not no_figures, progress=progress)
+        finder = diagnose(scene, recordings, out, names, max_effects, seed, figures=not no_figures, progress=progress,
+                          n_jobs=jobs)
     typer.echo(f"verdict: {finder.verdict_}")
     typer.echo(finder.explanation_)
     typer.echo(f"wrote {out / 'gap.json'}")

@@ -56,14 +56,16 @@ class GapFinder:
         max_effects: at most this many effects are accepted (greedy).
         seed: seeds null-data noise and window subsampling.
         config: search settings.
+        n_jobs: processes that fit candidates in parallel (results do not depend on it).
     """
 
     def __init__(self, effects: tuple[str, ...] | list[str] | None = None, max_effects: int = 3, seed: int = 0,
-                 config: GapConfig | None = None) -> None:
+                 config: GapConfig | None = None, n_jobs: int = 1) -> None:
         self.effects = tuple(effects) if effects else ALL_EFFECTS
         self.max_effects = max_effects
         self.seed = seed
         self.config = config or GapConfig()
+        self.n_jobs = n_jobs
 
     # ------------------------------------------------------------------------------------------
     def fit(self, scene: str | Path | SceneSpec, recordings: str | Path | pd.DataFrame | list[Episode],
@@ -107,7 +109,7 @@ class GapFinder:
                     null_ctx, cfg.fit, pool=self._pool(null_eps, train_ids))
         null_before = nf.heldout_sse(None, None)
         null_results, null_gains = candidate_gains(nf, candidates, None, np.zeros(0), null_before,
-                                                   lambda k: note(f"null: {k}"))
+                                                   lambda k: note(f"null: {k}"), self.n_jobs)
         self.null_gains_ = {k: round(v, 4) for k, v in null_gains.items() if np.isfinite(v)}
         q, self.null_best_ = null_threshold(null_before, null_results, cfg.null_alpha, self.seed)
         self.threshold_ = float(max(cfg.min_gain, q, max(null_gains.values(), default=0.0)))
@@ -125,7 +127,7 @@ class GapFinder:
         fitter = Fitter(shooter, self.sigma_, train_w, test_w, ctx, cfg.fit,
                         pool=self._pool(self.episodes_, train_ids))
         effect, params, self.rounds_ = greedy(fitter, candidates, self.threshold_, self.max_effects, contexts,
-                                              lambda k: note(f"fit: {k}"), cfg.gain_lower_q)
+                                              lambda k: note(f"fit: {k}"), cfg.gain_lower_q, self.n_jobs)
         self.effect_, self.params_ = effect, params
         self.groups_ = [r.group for r in self.rounds_ if r.winner]
         self.effects_ = _effect_dicts(effect, params, self.scene_)

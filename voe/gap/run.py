@@ -14,9 +14,9 @@ from voe.gap.output import provenance, write_json
 
 def diagnose(scene: str | Path, recordings: str | Path, out: str | Path, effects: list[str] | None = None,
              max_effects: int = 3, seed: int = 0, config: GapConfig | None = None, figures: bool = True,
-             progress: Callable[[str], None] | None = None) -> GapFinder:
+             progress: Callable[[str], None] | None = None, n_jobs: int = 1) -> GapFinder:
     """Run the finder and write ``gap.json`` (and ``gap.md`` with figures) into ``out``."""
-    finder = GapFinder(effects=effects, max_effects=max_effects, seed=seed, config=config)
+    finder = GapFinder(effects=effects, max_effects=max_effects, seed=seed, config=config, n_jobs=n_jobs)
     finder.fit(scene, recordings, progress=progress)
     out = Path(out)
     payload = finder.to_dict()

@@ -16,7 +16,9 @@ windows out of eight to noise level. In the geometric mean every window counts o
 
 from __future__ import annotations
 
+import multiprocessing as mp
 from collections.abc import Callable
+from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -98,17 +100,48 @@ class Round:
 
 def candidate_gains(fitter: Fitter, candidates: dict[str, Effect], current: Effect | None,
                     params: np.ndarray, before_sse: np.ndarray,
-                    progress: Callable[[str], None] | None = None) -> tuple[dict[str, FitResult], dict[str, float]]:
-    """Fit ``current + c`` for every candidate; gain = ``window_gain`` against ``before_sse`` (W,)."""
-    results, gains = {}, {}
-    for key, cand in candidates.items():
-        effect, starts = extend(current, params, cand, fitter.ctx)
-        res = fitter.fit(effect, starts)
-        results[key] = res
-        gains[key] = window_gain(before_sse, res.window_sse)  # -inf for a rollout that blew up
-        if progress:
-            progress(key)
+                    progress: Callable[[str], None] | None = None,
+                    n_jobs: int = 1) -> tuple[dict[str, FitResult], dict[str, float]]:
+    """Fit ``current + c`` for every candidate; gain = ``window_gain`` against ``before_sse`` (W,).
+
+    With ``n_jobs > 1`` the candidates are fitted in that many forked processes. Why fork: the
+    fitter holds pymunk scenes and recordings; forked workers inherit them instead of pickling
+    them, and each candidate's fit is deterministic, so the results do not depend on ``n_jobs``.
+    """
+    global _TASK
+    results: dict[str, FitResult] = {}
+    if n_jobs > 1 and len(candidates) > 1 and "fork" in mp.get_all_start_methods():
+        _TASK = (fitter, candidates, current, params)
+        try:
+            with ProcessPoolExecutor(min(n_jobs, len(candidates)), mp_context=mp.get_context("fork")) as pool:
+                futures = {pool.submit(_fit_one, k): k for k in candidates}
+                for fut in as_completed(futures):
+                    key, res, n_roll = fut.result()
+                    results[key] = res
+                    fitter.shooter.n_rollouts += n_roll
+                    if progress:
+                        progress(key)
+        finally:
+            _TASK = None
+        results = {k: results[k] for k in candidates}
+    else:
+        for key in candidates:
+            results[key] = _fit_one(key, (fitter, candidates, current, params))[1]
+            if progress:
+                progress(key)
+    gains = {k: window_gain(before_sse, r.window_sse) for k, r in results.items()}  # -inf for a rollout that blew up
     return results, gains
+
+
+_TASK: tuple | None = None  # (fitter, candidates, current, params) inherited by forked workers
+
+
+def _fit_one(key: str, task: tuple | None = None) -> tuple[str, FitResult, int]:
+    """Fit candidate ``key`` of ``task`` (default: the forked ``_TASK``); returns the rollouts it cost."""
+    fitter, candidates, current, params = task or _TASK
+    n0 = fitter.shooter.n_rollouts
+    effect, starts = extend(current, params, candidates[key], fitter.ctx)
+    return key, fitter.fit(effect, starts), fitter.shooter.n_rollouts - n0
 
 
 def choose(gains: dict[str, float], results: dict[str, FitResult], candidates: dict[str, Effect],
@@ -135,7 +168,7 @@ def choose(gains: dict[str, float], results: dict[str, FitResult], candidates: d
 
 def greedy(fitter: Fitter, candidates: dict[str, Effect], threshold: float, max_effects: int,
            contexts: set[str], progress: Callable[[str], None] | None = None,
-           lower_q: float | None = None) -> tuple[Effect | None, np.ndarray, list[Round]]:
+           lower_q: float | None = None, n_jobs: int = 1) -> tuple[Effect | None, np.ndarray, list[Round]]:
     """Add effects one at a time while the held-out gain beats ``threshold`` (and, if
     ``lower_q`` is set, while its bootstrap ``lower_q`` quantile stays positive).
 
@@ -149,7 +182,7 @@ def greedy(fitter: Fitter, candidates: dict[str, Effect], threshold: float, max_
     rounds: list[Round] = []
     pool = dict(candidates)
     for _ in range(max_effects):
-        results, gains = candidate_gains(fitter, pool, current, params, before_sse, progress)
+        results, gains = candidate_gains(fitter, pool, current, params, before_sse, progress, n_jobs)
         lower = {k: gain_lower_bound(before_sse, r.window_sse, q=lower_q or 0.05) for k, r in results.items()}
         winner, group = choose(gains, results, pool, contexts, threshold, lower if lower_q else None)
         rounds.append(Round(before, results, gains, winner, group, lower))
