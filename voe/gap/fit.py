@@ -58,11 +58,12 @@ class Fitter:
         self.sigma, self.pool = sigma, pool
         self._weights = [1.0 / shooter.sigma_pred(w, sigma) for w in train]  # each (n, B, 3)
 
-    def _on(self, train: list[Window]) -> Fitter:
-        """This fitter with other training windows (a shallow copy)."""
+    def _on(self, train: list[Window], weights: list[np.ndarray] | None = None) -> Fitter:
+        """This fitter with other training windows (a shallow copy); ``weights`` if already known."""
+        if weights is None:
+            weights = [1.0 / self.shooter.sigma_pred(w, self.sigma) for w in train]
         sub = Fitter.__new__(Fitter)
-        sub.__dict__.update(self.__dict__, train=train, _weights=[1.0 / self.shooter.sigma_pred(w, self.sigma)
-                                                                   for w in train])
+        sub.__dict__.update(self.__dict__, train=train, _weights=weights)
         return sub
 
     def focused(self, effect: Effect, x0: np.ndarray, lo: np.ndarray, hi: np.ndarray, scale: np.ndarray) -> Fitter:
@@ -135,8 +136,7 @@ class Fitter:
         starts = list(starts) if starts is not None else effect.starts(self.ctx)
         starts = [np.clip(s, lo, hi) for s in starts]
         if len(starts) > 1:  # pick the most promising start by training cost on a third of the windows
-            sub = Fitter.__new__(Fitter)
-            sub.__dict__.update(self.__dict__, train=self.train[::3], _weights=self._weights[::3])
+            sub = self._on(self.train[::3], self._weights[::3])
             starts = [min(starts, key=lambda s: sub.cost(effect, s))]
         x0 = starts[0]
         on = self.focused(effect, x0, lo, hi, scale)
