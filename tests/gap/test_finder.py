@@ -42,7 +42,7 @@ def test_parallel_candidate_fits_give_the_same_diagnosis():
     two = GapFinder(effects=FEW, seed=0, n_jobs=2).fit(scene, eps)
     assert one.effects_ and one.effects_[0]["name"] == "quadratic_drag"
     assert json.dumps(one.to_dict(), sort_keys=True) == json.dumps(two.to_dict(), sort_keys=True)
-    assert one._shooter.n_rollouts == two._shooter.n_rollouts  # workers' rollouts are counted
+    assert one.problem_.shooter.n_rollouts == two.problem_.shooter.n_rollouts  # workers' rollouts are counted
 
 
 def test_cli_diagnose_default_form_and_bench_help(flight_files, tmp_path):
