@@ -16,14 +16,18 @@ def test_vendored_data_ships_with_its_licence():
     assert "dynamicslab" in (DATA / "README.md").read_text()
 
 
+# the candidates that compete on a lone arm (the README reports the whole library: same answer)
+NEAR = ("angular_damping", "linear_drag", "joint_friction", "spring_anchor", "constant_acceleration")
+
+
 def test_real_pendulum_damping_found():
-    f = GapFinder(seed=0).fit(DATA / "scene.json", DATA / "recordings.csv")
+    f = GapFinder(effects=NEAR, seed=0).fit(DATA / "scene.json", DATA / "recordings.csv")
     d = f.to_dict()
     assert f.verdict_ == "mismatch"
     first = f.effects_[0]
     assert first["name"] == "angular_damping"
     b = first["params"]["b"]
-    assert 1.2e-4 < b < 2.4e-4  # README: 1.76e-4 (exact ODE), authors 2.24e-4
+    assert 1.2e-4 < b < 2.4e-4  # README: 1.76e-4 (exact ODE), authors 2.24e-4; 1.47e-4 on episodes 0-2
     lo, hi = first["interval95"]["b"]
     assert 0 < lo <= b <= hi < 5e-4  # established: the interval excludes zero
     assert d["episodes"]["fit"] == [0, 1, 2] and d["episodes"]["select"] == [3, 4] and d["episodes"]["test"] == [5]

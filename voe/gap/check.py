@@ -36,6 +36,7 @@ class Checked:
     dropped: tuple[dict, ...]  # {"effect", "reason"} per dropped effect
     verification: Verification
     test_note: str
+    nominal: np.ndarray  # (P,) the model's parameters at which nothing changes (NaN: no such value)
 
 
 def check_step(p: Problem, loc: Location, s: Search, config: GapConfig, seed: int) -> Checked:
@@ -74,7 +75,8 @@ def check_step(p: Problem, loc: Location, s: Search, config: GapConfig, seed: in
     if model is None:
         lo = hi = np.zeros(0)
     ver, note = _test(p, model, config, loc.z_threshold)
-    return Checked(model, tuple(keys), lo, hi, tuple(dropped), ver, note)
+    nominal = model.effect.nominal(ctx) if model is not None else np.zeros(0)
+    return Checked(model, tuple(keys), lo, hi, tuple(dropped), ver, note, nominal)
 
 
 def _test(p: Problem, model: FitResult | None, config: GapConfig, z_thr: float) -> tuple[Verification, str]:
@@ -90,8 +92,10 @@ def _test(p: Problem, model: FitResult | None, config: GapConfig, z_thr: float) 
     return verify(p.shooter, pairs, effect, p.sigma, z_thr), note
 
 
-def effect_dicts(model: FitResult | None, lo: np.ndarray, hi: np.ndarray, keys: tuple[str, ...], p: Problem) -> list[dict]:
-    """One dict per reported effect: parameters with 95 % intervals, units, bodies, when it acts."""
+def effect_dicts(c: Checked, p: Problem) -> list[dict]:
+    """One dict per reported effect: parameters with 95 % intervals and nominal values, units,
+    bodies, when it acts."""
+    model, lo, hi, keys = c.model, c.lower, c.upper, c.keys
     if model is None:
         return []
     es = EffectSum(model.effect.parts)
@@ -101,6 +105,8 @@ def effect_dicts(model: FitResult | None, lo: np.ndarray, hi: np.ndarray, keys: 
         out.append({"name": e.name, "key": keys[len(out)] if len(out) < len(keys) else e.name,
                     "params": {k: float(x) for k, x in zip(e.param_names, v, strict=True)},
                     "interval95": {k: [float(lo[i + j]), float(hi[i + j])] for j, k in enumerate(e.param_names)},
+                    "nominal": {k: (None if np.isnan(c.nominal[i + j]) else float(c.nominal[i + j]))
+                                for j, k in enumerate(e.param_names)},
                     "units": dict(zip(e.param_names, e.units, strict=True)),
                     "bodies": list(e.bodies) if e.bodies else p.scene.names, "acts": e.acts, "summary": e.summary})
         i += n

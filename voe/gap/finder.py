@@ -109,8 +109,7 @@ class GapFinder:
 
     @property
     def effects_(self) -> list[dict]:
-        c = self.checked_
-        return effect_dicts(c.model, c.lower, c.upper, c.keys, self.problem_)
+        return effect_dicts(self.checked_, self.problem_)
 
     @property
     def verdict_(self) -> str:
@@ -151,4 +150,6 @@ class GapFinder:
                          "rounds": [r.to_dict() for r in self.search_.null]},
                 "rounds": [r.to_dict() for r in self.rounds_],
                 "noise_floor": {n: dict(zip(("x", "y", "angle"), map(float, s), strict=True))
-                                for n, s in zip(self.scene_.names, self.problem_.sigma, strict=True)}}
+                                for n, s in zip(self.scene_.names, self.problem_.sigma, strict=True)},
+                "noise_ar1": {n: dict(zip(("x", "y", "angle"), map(float, s), strict=True))
+                              for n, s in zip(self.scene_.names, self.problem_.phi, strict=True)}}
