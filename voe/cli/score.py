@@ -7,6 +7,17 @@ from pathlib import Path
 import typer
 
 
+def _shard(text: str):
+    """``I/N`` -> the ranks of one job-array task (0-based I)."""
+    from voe.errors import VoeError
+    from voe.scoring.distributed import Ranks
+
+    i, _, n = text.partition("/")
+    if not (i.isdigit() and n.isdigit() and 0 <= int(i) < int(n)):
+        raise VoeError(f"--shard must be I/N with 0 <= I < N (e.g. $SLURM_ARRAY_TASK_ID/8), not {text!r}")
+    return Ranks(int(i), int(n), "shard")
+
+
 def _forward(probes: Path, model: str | None, out: Path, checkpoint: Path | None, model_arg: list[str] | None,
              batch_size: int, seed: int, no_check: bool, cache: Path | None, device: str | None,
              bf16: bool, overwrite: bool) -> list[str]:
@@ -24,7 +35,8 @@ def _forward(probes: Path, model: str | None, out: Path, checkpoint: Path | None
 
 
 class _Bar:
-    """A progress bar opened at the first finished batch, so a failed pre-run check prints one line."""
+    """A progress bar opened at the first finished batch, so a failed pre-run check prints one line;
+    off when stderr is not a terminal (logs of torchrun ranks and SLURM tasks stay readable)."""
 
     def __init__(self, total: int, desc: str) -> None:
         self.total, self.desc, self.bar = total, desc, None
@@ -33,7 +45,7 @@ class _Bar:
         if self.bar is None:
             from tqdm import tqdm
 
-            self.bar = tqdm(total=self.total, desc=self.desc, unit="clip", dynamic_ncols=True)
+            self.bar = tqdm(total=self.total, desc=self.desc, unit="clip", dynamic_ncols=True, disable=None)
         self.bar.update(n)
 
     def close(self) -> None:
@@ -60,6 +72,7 @@ def register(app: typer.Typer) -> None:
         bf16: bool = typer.Option(False, "--bf16", help="bf16 autocast around each frame_nll call (torch models)."),
         launcher: str = typer.Option("python", "--launcher", help="python (this process) or torchrun."),
         nproc: int = typer.Option(2, "--nproc", min=1, help="Ranks for --launcher torchrun."),
+        shard: str | None = typer.Option(None, "--shard", help="I/N: fill the cache with shard I of N only (e.g. a SLURM array task); a final run without --shard writes the run."),
         surprises: Path | None = typer.Option(None, "--surprises", help="Score a table computed elsewhere: csv/parquet with clip_key, [frame,] surprise."),
         surprise_kind: str = typer.Option("nll", "--surprise-kind", help="With --surprises: nll, bound or error."),
         name: str | None = typer.Option(None, "--name", help="With --surprises: the model name in reports [default: file stem]."),
@@ -98,9 +111,9 @@ def register(app: typer.Typer) -> None:
         from voe.scoring.distributed import from_env
         from voe.scoring.score import score_probe_set
 
-        ranks = from_env()
+        ranks = _shard(shard) if shard else from_env()
         if no_cache and ranks.world > 1:
-            raise VoeError("--no-cache cannot be used with torchrun: ranks hand their results over in the cache")
+            raise VoeError("--no-cache cannot be used with torchrun or --shard: results are handed over in the cache")
         root = None if no_cache else (cache or default_root())
         bar = None
         try:
@@ -116,7 +129,9 @@ def register(app: typer.Typer) -> None:
             if bar is not None:
                 bar.close()
             ranks.close()
-        if meta is not None:
+        if shard:
+            typer.echo(f"scored shard {shard} into the cache under {root}; run again without --shard to write {out}")
+        elif meta is not None:
             typer.echo(f"wrote {meta['probes']['n_clips']} clips scored by {meta['model']['name']} to {out} "
                        f"({meta['wall_time_s']:.1f} s, check {meta['check']}, "
                        f"{meta['clips_from_cache']} from cache)")
