@@ -30,6 +30,7 @@ import pandas as pd
 from voe.errors import ProbeSetError
 from voe.io.atomic import atomic_dir
 from voe.io.batch import Batch
+from voe.io.paths import inside
 from voe.io.provenance import sha256_bytes, sha256_file
 
 SCHEMA_VERSION = 1
@@ -114,15 +115,23 @@ class ProbeSet:
         mpath = self.path / "manifest.json"
         if not mpath.exists():
             raise ProbeSetError(f"{mpath} is missing; is {self.path} a voe probe set?")
+        inside(self.path, "manifest.json", self.path, ProbeSetError)  # not a symlink leading out
         try:
             self.manifest: dict[str, Any] = json.loads(mpath.read_text())
-        except json.JSONDecodeError as exc:
+        except (json.JSONDecodeError, UnicodeDecodeError) as exc:
             raise ProbeSetError(f"{mpath} is not valid JSON: {exc}") from exc
+        if not isinstance(self.manifest, dict):
+            raise ProbeSetError(f"{mpath} is not a JSON object")
         if self.manifest.get("schema_version") != SCHEMA_VERSION:
             raise ProbeSetError(f"{mpath}: schema_version {self.manifest.get('schema_version')!r} "
                                 f"is not {SCHEMA_VERSION}")
+        files = self.manifest.get("files", {})
+        if not isinstance(files, dict):
+            raise ProbeSetError(f"{mpath}: 'files' must map file names to sha256")
+        for name in files:  # every listed file stays inside the set, symlinks included
+            inside(self.path, name, mpath, ProbeSetError)
         try:
-            self.index: pd.DataFrame = pd.read_parquet(self.path / "index.parquet")
+            self.index: pd.DataFrame = pd.read_parquet(inside(self.path, "index.parquet", mpath, ProbeSetError))
         except Exception as exc:  # pyarrow raises several types for corrupt files
             raise ProbeSetError(f"{self.path / 'index.parquet'} cannot be read: {exc}") from exc
         missing = [c for c in INDEX_COLUMNS if c not in self.index.columns]
@@ -148,7 +157,7 @@ class ProbeSet:
     def array(self, name: str) -> np.ndarray:
         """A memory-mapped stacked array (``frames``, ``states``, ``present`` or ``exists``)."""
         if name not in self._arrays:
-            path = self.path / f"{name}.npy"
+            path = inside(self.path, f"{name}.npy", self.path / "manifest.json", ProbeSetError)
             try:
                 self._arrays[name] = np.load(path, mmap_mode="r", allow_pickle=False)
             except (OSError, ValueError) as exc:
