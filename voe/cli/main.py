@@ -9,6 +9,7 @@ in its own file and keeps heavy imports (torch, matplotlib, pymunk) inside its f
 from __future__ import annotations
 
 import importlib
+import signal
 import sys
 
 import typer
@@ -52,13 +53,28 @@ for _mod, _name in _GROUPS:
 def main() -> None:
     """Run the CLI; turn ``VoeError`` into ``voe: error: ...`` and its exit code.
 
-    Usage errors (bad options) are handled by typer itself and exit with 2.
+    Usage errors (bad options) are handled by typer itself and exit with 2. SIGTERM is turned
+    into an exception like Ctrl-C, so both unwind the same way: temporary outputs are removed,
+    locks released, and nothing half-written is left under a final name.
     """
+    signal.signal(signal.SIGTERM, _terminate)
     try:
         app()
     except VoeError as exc:
         typer.echo(f"voe: error: {exc}", err=True)
         sys.exit(exc.exit_code)
+    except KeyboardInterrupt:
+        typer.echo("voe: interrupted; nothing incomplete was kept (rerun to resume or start again)", err=True)
+        sys.exit(130)
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised where the main thread is so that cleanup runs as for Ctrl-C."""
+
+
+def _terminate(signum: int, frame: object) -> None:
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)  # a second SIGTERM ends the process at once
+    raise Terminated()
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -6,11 +6,14 @@ from pathlib import Path
 
 import typer
 
+from voe.cli.common import claims_output
+
 
 def register(app: typer.Typer) -> None:
     """Add the top-level ``report`` command to ``app``."""
 
     @app.command("report")
+    @claims_output("dir")
     def report(
         runs: list[Path] = typer.Argument(..., help="Run directories written by `voe score`."),
         out: Path = typer.Option(..., "--out", help="Report directory, e.g. reports/NAME."),

@@ -6,11 +6,14 @@ from pathlib import Path
 
 import typer
 
+from voe.cli.common import claims_output
+
 
 def register(app: typer.Typer) -> None:
     """Add the top-level ``score`` command to ``app``."""
 
     @app.command("score")
+    @claims_output("dir")
     def score(
         probes: Path = typer.Option(..., "--probes", help="Probe-set directory."),
         model: str = typer.Option(..., "--model", help="Registered model id or 'module:attr'."),
