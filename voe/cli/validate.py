@@ -28,6 +28,7 @@ def register(app: typer.Typer) -> None:
         seed: int = typer.Option(0),
         jobs: int = typer.Option(1, "--jobs", min=1, help="Controls built and scored at a time."),
         overwrite: bool = typer.Option(False, help="Replace a non-empty --out that is not an earlier validity report."),
+        show_paths: bool = typer.Option(False, "--show-paths", help="Record absolute input paths in provenance."),
     ) -> None:
         """Run untrained, frame-only, lesioned and counterfactual controls; write the matrix."""
         from voe.controls.spec import load_user_controls
@@ -51,7 +52,7 @@ def register(app: typer.Typer) -> None:
         typer.echo(f"scratch directory (reused on rerun): {work}")
         with output_lock(work):
             matrix = run(out, work, probes, world, user, fams or None, per_concept, world_n, seed,
-                         train_minutes=train_minutes, say=typer.echo, jobs=jobs)
+                         train_minutes=train_minutes, say=typer.echo, jobs=jobs, show_paths=show_paths)
         bad_cells = matrix[matrix["as_declared"].eq(False)]
         typer.echo(f"wrote {out}/validity.md: {int(matrix['as_declared'].eq(True).sum())} cells as declared, "
                    f"{len(bad_cells)} not")

@@ -43,20 +43,31 @@ def inside(base: str | Path, name: object, source: str | Path, error: type[VoeEr
     return Path(base) / rel
 
 
-def relative_ref(target: str | Path, out: str | Path) -> str:
-    """``target`` as a POSIX path relative to the directory ``out`` (``..`` allowed).
+def relative_ref(target: str | Path, out: str | Path) -> str | None:
+    """``target`` as a POSIX path relative to the directory ``out``, or None if none exists.
 
     Why: recorded in outputs, it says how the output and its input sit side by side (it stays
-    valid when both move together) and leaks no absolute path of the machine.
+    valid when both move together) and leaks no absolute path of the machine. Paths whose only
+    common ancestor is the filesystem root (``/work/...`` against ``/home/...``) have no useful
+    relative form: the caller names the input by its sha256 alone.
     """
-    rel = os.path.relpath(Path(target).resolve(), Path(out).resolve())
-    return Path(rel).as_posix()
+    t, o = Path(target).resolve(), Path(out).resolve()
+    common = Path(os.path.commonpath([t, o]))
+    if common == Path(common.anchor):
+        return None
+    return Path(os.path.relpath(t, o)).as_posix()
+
+
+def portable_ref(target: str | Path, out: str | Path) -> str:
+    """``relative_ref`` or, where no relative path exists, the absolute path (machine records only:
+    run.json and checkpoint configs, which must find their inputs again; never shown in reports)."""
+    return relative_ref(target, out) or str(Path(target).resolve())
 
 
 def resolve_ref(ref: str | Path, out: str | Path) -> Path:
     """Inverse of ``relative_ref``: a recorded relative path read back against ``out``.
 
-    Absolute paths (written before paths were made relative) are returned unchanged.
+    Absolute paths (older runs, or no relative path) are returned unchanged.
     """
     p = Path(ref)
     return p if p.is_absolute() else Path(out) / p

@@ -28,6 +28,7 @@ import pandas as pd
 from voe import __version__
 from voe.errors import ModelContractError
 from voe.io.atomic import atomic_dir
+from voe.io.paths import portable_ref
 from voe.io.probeset import ProbeSet, load_probe_set
 from voe.io.provenance import package_versions, sha256_path
 
@@ -139,9 +140,9 @@ def score_probe_set(model: Any, probes: ProbeSet | str | Path, out: Path, *, mod
                   "class": f"{type(model).__module__}:{type(model).__qualname__}",
                   "args": dict(model_args or {}), "name": name,
                   "observation": str(getattr(model, "observation", "")),
-                  "checkpoint": str(checkpoint) if checkpoint else None,
+                  "checkpoint": portable_ref(checkpoint, out) if checkpoint else None,
                   "checkpoint_sha256": sha256_path(Path(checkpoint)) if checkpoint else None},
-        "probes": {"path": str(Path(ps.path).resolve()), "manifest_sha256": ps.manifest_sha256,
+        "probes": {"path": portable_ref(ps.path, out), "manifest_sha256": ps.manifest_sha256,
                    "concepts": list(ps.manifest.get("concepts", [])), "n_clips": N, "n_frames": T},
         "batch_size": batch_size, "wall_time_s": round(wall, 3),
         "created_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
