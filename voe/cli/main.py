@@ -55,26 +55,36 @@ def main() -> None:
 
     Usage errors (bad options) are handled by typer itself and exit with 2. SIGTERM is turned
     into an exception like Ctrl-C, so both unwind the same way: temporary outputs are removed,
-    locks released, and nothing half-written is left under a final name.
+    locks released, and nothing half-written is left under a final name. Either ends in one
+    ``voe: interrupted`` line and exit code 130.
     """
-    signal.signal(signal.SIGTERM, _terminate)
+    signal.signal(signal.SIGTERM, _interrupt)
+    if signal.getsignal(signal.SIGINT) is not signal.SIG_IGN:  # a background job keeps ignoring it
+        signal.signal(signal.SIGINT, _interrupt)
     try:
         app()
     except VoeError as exc:
         typer.echo(f"voe: error: {exc}", err=True)
         sys.exit(exc.exit_code)
-    except KeyboardInterrupt:
-        typer.echo("voe: interrupted; nothing incomplete was kept (rerun to resume or start again)", err=True)
+    except (KeyboardInterrupt, SystemExit) as exc:  # click turns Ctrl-C into "Aborted!" and exit 1
+        if not _INTERRUPTED or isinstance(exc, SystemExit) and exc.code == 0:
+            raise
+        typer.echo(f"voe: interrupted by {_INTERRUPTED[0]}; nothing incomplete was kept under a final "
+                   "name (rerun to resume or start again)", err=True)
         sys.exit(130)
 
 
-class Terminated(KeyboardInterrupt):
-    """SIGTERM, raised where the main thread is so that cleanup runs as for Ctrl-C."""
+_INTERRUPTED: list[str] = []
 
 
-def _terminate(signum: int, frame: object) -> None:
-    signal.signal(signal.SIGTERM, signal.SIG_DFL)  # a second SIGTERM ends the process at once
-    raise Terminated()
+class Interrupted(KeyboardInterrupt):
+    """SIGINT or SIGTERM, raised where the main thread is so that cleanup runs."""
+
+
+def _interrupt(signum: int, frame: object) -> None:
+    signal.signal(signum, signal.SIG_DFL)  # a second signal ends the process at once
+    _INTERRUPTED.append(signal.Signals(signum).name)
+    raise Interrupted()
 
 
 if __name__ == "__main__":  # pragma: no cover
