@@ -69,7 +69,7 @@ def validate(
         for p in rep.problems[:20]:
             typer.echo(f"problem: {p}")
         raise ProbeSetError(f"{path}: {len(rep.problems)} problem(s), first: {rep.problems[0]}")
-    typer.echo(f"{path}: valid ({len(rep.table) if rep.table is not None else 0} concepts)")
+    typer.echo(f"{path}: valid ({rep.table['concept'].nunique() if rep.table is not None else 0} concepts)")
 
 
 @app.command()
