@@ -6,6 +6,8 @@ from pathlib import Path
 
 import typer
 
+from voe.cli.common import claims_output
+
 
 def _shard(text: str):
     """``I/N`` -> the ranks of one job-array task (0-based I)."""
@@ -57,6 +59,7 @@ def register(app: typer.Typer) -> None:
     """Add the top-level ``score`` command to ``app``."""
 
     @app.command("score")
+    @claims_output("dir")
     def score(
         probes: Path = typer.Option(..., "--probes", help="Probe-set directory."),
         out: Path = typer.Option(..., "--out", help="Run directory to write (must be new or empty)."),
