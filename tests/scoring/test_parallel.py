@@ -103,10 +103,11 @@ def test_failing_model_is_named_and_the_rerun_resumes(single, synth_probes, tmp_
             "--model-arg", f"fail_key={key}", "--model-arg", f"marker={tmp_path / 'failed'}",
             "--model-arg", f"count={tmp_path / 'count'}", "--batch-size", "3", "--out", str(tmp_path / "run")]
     res = _voe(*args, tmp=tmp_path)
-    lines = res.stderr.strip().splitlines()
-    assert res.returncode == 2 and len(lines) == 1, res.stderr
-    assert f"model 'flaky' raised RuntimeError on clip {key} (clip {last})" in lines[0]
-    assert "simulated device fault with a second line" in lines[0] and "rerun the same command to resume" in lines[0]
+    lines = res.stderr.strip().splitlines()  # a progress line, then the error in one line
+    assert res.returncode == 2 and lines[0].startswith("scoring flaky: 36 clips, check passed, cache under")
+    assert len(lines) == 2 and lines[1].startswith("voe: error: "), res.stderr
+    assert f"model 'flaky' raised RuntimeError on clip {key} (clip {last})" in lines[1]
+    assert "simulated device fault with a second line" in lines[1] and "rerun the same command to resume" in lines[1]
     assert not (tmp_path / "run").exists()
     before = sum(int(n) for n in (tmp_path / "count").read_text().split())
     (tmp_path / "count").unlink()
