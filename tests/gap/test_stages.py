@@ -10,7 +10,7 @@ from voe.gap import GapFinder
 from voe.gap.effects import EFFECTS
 from voe.gap.effects.base import EffectSum
 from voe.gap.effects.region import inside
-from voe.gap.fit import FitResult, Fitter
+from voe.gap.fit import FitResult
 from voe.gap.folds import without
 from voe.gap.recordings import Episode
 from voe.gap.search import context_match

@@ -1,20 +1,15 @@
-"""Small helpers shared by CLI groups: progress bars and option parsing."""
+"""Small helpers shared by CLI groups: option parsing (and the progress bar, re-exported)."""
 
 from __future__ import annotations
 
-import contextlib
-from collections.abc import Iterator
+import functools
+from collections.abc import Callable
+from typing import Any
 
 from voe.errors import VoeError
+from voe.progress import progress
 
-
-@contextlib.contextmanager
-def progress(total: int, desc: str, unit: str = "it") -> Iterator:
-    """A tqdm progress bar on stderr; yields its ``update`` function."""
-    from tqdm import tqdm
-
-    with tqdm(total=total, desc=desc, unit=unit, dynamic_ncols=True, leave=True) as bar:
-        yield bar.update
+__all__ = ["claims_output", "parse_kv", "progress"]
 
 
 def parse_kv(items: list[str] | None) -> dict[str, object]:
@@ -37,3 +32,26 @@ def parse_kv(items: list[str] | None) -> dict[str, object]:
                     continue
         out[key.strip()] = value
     return out
+
+
+def claims_output(kind: str = "dir", suffixes: tuple[str, ...] = (), option: str = "out",
+                  replaces: tuple[str, ...] = ()) -> Callable:
+    """Decorate a command: check its output path and hold its lock before the body runs.
+
+    Why a decorator: every command needs the same preconditions (file vs directory, exists and
+    ``--overwrite``, writable, no other writer) *before* computing, and one line per command is
+    what keeps them from being forgotten. The command's ``--overwrite`` (if any) is honoured.
+    """
+    def deco(fn: Callable) -> Callable:
+        @functools.wraps(fn)
+        def wrapper(*args: Any, **kwargs: Any) -> Any:
+            from voe.io.outputs import claim_output
+
+            out = kwargs.get(option)
+            if out is None:
+                return fn(*args, **kwargs)
+            with claim_output(out, kind, bool(kwargs.get("overwrite", False)), suffixes, f"--{option}",
+                              replaces):
+                return fn(*args, **kwargs)
+        return wrapper
+    return deco

@@ -17,6 +17,7 @@ from voe.gap.finder import GapConfig, GapFinder
 from voe.gap.recordings import Episode
 from voe.gap.synth import ar1_noise, simulate_episode
 from voe.gap.truths import OUTSIDE, Gust, Hidden, compound_truths, hide, kind, single_truths
+from voe.parallel import parallel_map
 from voe.sim.scenefile import BodySpec, SceneSpec, StaticSpec
 
 TRUTHS = single_truths()
@@ -227,18 +228,8 @@ def run_bench(cases: int = 22, noise: float = 1e-3, seed: int = 0, jobs: int = 1
     todo = [(s, t, noise, max_effects, episodes, duration, nk) for s, t, nk, _ in rows]
     roles = {s: role for s, _, _, role in rows}
     results: list[dict] = []
-    if jobs > 1:
-        from concurrent.futures import ProcessPoolExecutor
-
-        with ProcessPoolExecutor(jobs) as pool:
-            for r in pool.map(run_case, todo):
-                results.append({**r, "role": roles[r["seed"]], "extra": roles[r["seed"]] != "cycle"})
-                if progress:
-                    progress(results[-1])
-    else:
-        for a in todo:
-            r = run_case(a)
-            results.append({**r, "role": roles[r["seed"]], "extra": roles[r["seed"]] != "cycle"})
-            if progress:
-                progress(results[-1])
+    for r in parallel_map(run_case, todo, jobs):
+        results.append({**r, "role": roles[r["seed"]], "extra": roles[r["seed"]] != "cycle"})
+        if progress:
+            progress(results[-1])
     return results

@@ -21,9 +21,7 @@ once.
 
 from __future__ import annotations
 
-import multiprocessing as mp
 from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 
 import numpy as np
@@ -31,6 +29,7 @@ import numpy as np
 from voe.gap.effects.base import Effect
 from voe.gap.fit import FitResult
 from voe.gap.folds import FoldedFitter, as_sum
+from voe.parallel import parallel_map
 
 GROUP_TOL = 0.10  # selection error ratio within 10 % of the winner's counts as indistinguishable
 N_BOOT = 400
@@ -116,37 +115,22 @@ def candidate_gains(fitter: FoldedFitter, candidates: dict[str, Effect], current
     fitter holds pymunk scenes and recordings; forked workers inherit them instead of pickling
     them, and each candidate's fit is deterministic, so the results do not depend on ``n_jobs``.
     """
-    global _TASK
     results: dict[str, FitResult] = {}
-    if n_jobs > 1 and len(candidates) > 1 and "fork" in mp.get_all_start_methods():
-        _TASK = (fitter, candidates, current)
-        try:
-            with ProcessPoolExecutor(min(n_jobs, len(candidates)), mp_context=mp.get_context("fork")) as pool:
-                futures = {pool.submit(_fit_one, k): k for k in candidates}
-                for fut in as_completed(futures):
-                    key, res, n_roll = fut.result()
-                    results[key] = res
-                    fitter.shooter.n_rollouts += n_roll
-                    if progress:
-                        progress(key)
-        finally:
-            _TASK = None
-        results = {k: results[k] for k in candidates}
-    else:
-        for key in candidates:
-            results[key] = _fit_one(key, (fitter, candidates, current))[1]
-            if progress:
-                progress(key)
+    task = (fitter, candidates, current)
+    n0, spent = fitter.shooter.n_rollouts, 0
+    for key, res, n_roll in parallel_map(lambda k: _fit_one(k, task), list(candidates), n_jobs, start_method="fork"):
+        results[key] = res
+        spent += n_roll
+        if progress:
+            progress(key)
+    fitter.shooter.n_rollouts = n0 + spent  # forked workers counted in their own copies
     gains = {k: window_gain(before_sse, r.window_sse) for k, r in results.items()}  # -inf for a rollout that blew up
     return results, gains
 
 
-_TASK: tuple | None = None  # (fitter, candidates, current) inherited by forked workers
-
-
-def _fit_one(key: str, task: tuple | None = None) -> tuple[str, FitResult, int]:
-    """Fit candidate ``key`` of ``task`` (default: the forked ``_TASK``); returns the rollouts it cost."""
-    fitter, candidates, current = task or _TASK
+def _fit_one(key: str, task: tuple) -> tuple[str, FitResult, int]:
+    """Fit candidate ``key`` of ``task``; returns the rollouts it cost."""
+    fitter, candidates, current = task
     n0 = fitter.shooter.n_rollouts
     res = fitter.fit_candidate(current, candidates[key])
     return key, res, fitter.shooter.n_rollouts - n0
