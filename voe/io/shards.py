@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from voe.errors import ProbeSetError
+from voe.io.paths import inside
 from voe.io.provenance import sha256_file
 
 SHARD_BYTES = 64 << 20  # a shard's four files together stay under about 64 MiB
@@ -108,6 +109,7 @@ class ShardedArray:
         if s in self._open:
             return self._open[s]
         path = self.paths[s]
+        inside(self.set_dir, path.relative_to(self.set_dir), self.set_dir / "manifest.json", ProbeSetError)
         try:
             with open(path, "rb") as fh:
                 version = np.lib.format.read_magic(fh)

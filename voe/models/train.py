@@ -25,6 +25,7 @@ import numpy as np
 
 from voe.errors import ProbeSetError, VoeError
 from voe.io.batch import Batch
+from voe.io.paths import portable_ref
 from voe.io.probeset import ProbeSet, load_probe_set
 from voe.models.clips import Clips, GroupSampler, MemoryClips, as_clips
 
@@ -175,7 +176,7 @@ def train(ref: str, data: Path, out: Path, cfg: TrainConfig, args: dict[str, Any
     full, _ = resolve(ref)
     train_c, val_c, sha = split_clips(data, cfg.val_frac, cfg.seed)
     args = dict(args or {})
-    meta: dict[str, Any] = {"model": full, "seed": cfg.seed, "train_data": str(data),
+    meta: dict[str, Any] = {"model": full, "seed": cfg.seed, "train_data": portable_ref(data, out),
                             "train_manifest_sha256": sha, "n_train": len(train_c), "n_val": len(val_c),
                             "versions": package_versions()}
     from voe.models.torchbase import TorchModel

@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from voe.errors import ModelContractError, RunError, VoeError
+from voe.io.paths import portable_ref
 from voe.io.probeset import ProbeSet, load_probe_set
 from voe.io.provenance import sha256_path
 from voe.scoring.cache import ScoreCache
@@ -117,7 +118,9 @@ def score_probe_set(model: Any, probes: ProbeSet | str | Path, out: Path, *, mod
         cache_root: keep computed batches under this directory and resume from them; the entry
             is removed once the run is written. ``None``: no cache (unless sharded).
         device, bf16: see ``voe.scoring.device``.
-        ranks: this process's place in a sharded launch (``voe.scoring.distributed.from_env``).
+        ranks: this process's place in a sharded launch (``voe.scoring.distributed.from_env``, or
+            ``Ranks(i, n, "shard")`` for one task of a job array: it only fills the cache, and a
+            final unsharded run with the same cache merges every task's batches).
         progress: called with the number of clips done after each batch.
 
     Returns:
@@ -137,7 +140,7 @@ def score_probe_set(model: Any, probes: ProbeSet | str | Path, out: Path, *, mod
     fields = {"model": ref, "args": dict(model_args or {}), "name": name, "checkpoint_sha256": ck_sha,
               "manifest_sha256": ps.manifest_sha256, "batch_size": batch_size, "seed": seed,
               "surprise_kind": kind, "device": device, "bf16": bf16}
-    if cache_root is None and ranks.world > 1:
+    if cache_root is None and ranks.world > 1:  # also for shards: the cache is the hand-over
         raise VoeError("sharded scoring needs a cache directory shared by every rank (--cache DIR)")
     cache = ScoreCache(cache_root, fields) if cache_root is not None else None
     if check:
@@ -147,17 +150,17 @@ def score_probe_set(model: Any, probes: ProbeSet | str | Path, out: Path, *, mod
                                    cache=cache, device=device, bf16=bf16, progress=progress)
     computed = ranks.total(computed)  # a collective: every rank takes part
     wall = time.perf_counter() - t0
-    if ranks.rank != 0:
-        return None
+    if ranks.rank != 0 or ranks.launcher == "shard":
+        return None  # a shard (SLURM array task) leaves its batches in the cache for a final run
     by_id = mine if ranks.world == 1 else _merge(sched, blinder, cache)
     index, nll = assemble(ps.index, by_id)
     meta = {
         "model": {"ref": ref, "class": f"{type(model).__module__}:{type(model).__qualname__}",
                   "args": dict(model_args or {}), "name": name,
                   "observation": str(getattr(model, "observation", "")),
-                  "checkpoint": str(checkpoint) if checkpoint else None, "checkpoint_sha256": ck_sha},
+                  "checkpoint": portable_ref(checkpoint, out) if checkpoint else None, "checkpoint_sha256": ck_sha},
         "surprise_kind": kind,
-        "probes": {"path": str(Path(ps.path).resolve()), "manifest_sha256": ps.manifest_sha256,
+        "probes": {"path": portable_ref(ps.path, out), "manifest_sha256": ps.manifest_sha256,
                    "concepts": list(ps.manifest.get("concepts", []))},
         "batch_size": batch_size, "device": device, "bf16": bool(bf16),
         "order": {"seed": seed, "n_batches": len(sched.batches), "n_groups": sched.n_groups,
