@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from voe.sim.render import Renderer
+from voe.sim.render import Renderer, renderer_cached, visible
 from voe.sim.scene import Scene, SimConfig
 from voe.sim.world import World
 
@@ -45,57 +45,43 @@ def visible_slots(world: World, scene: Scene, pixel: float = 0.0) -> dict[int, b
 
     An object within ``pixel`` of a screen's edge counts as visible: anti-aliasing shows it.
     """
-    out = {}
-    w, h = scene.extent
-    for slot, (lo, hi) in world.bboxes().items():
-        inside = hi[0] > pixel and lo[0] < w - pixel and hi[1] > pixel and lo[1] < h - pixel
-        hidden = any(o.contains_box(lo, hi, pixel) for o in scene.occluders)
-        out[slot] = inside and not hidden
-    return out
+    slots = sorted(world.bodies())
+    truth = world.poses(max(slots, default=-1) + 1)  # (K, F) float64
+    vis = visible(truth, scene.occluders, scene.extent, pixel)
+    return {k: bool(vis[k]) for k in slots}
 
 
 class Recorder:
-    """Accumulates frames from a world, one ``capture`` per frame.
+    """Accumulates the true state of a world, one ``capture`` per frame; renders on ``result``.
 
     Args:
         scene: the clip's scene (for geometry and occluders).
         cfg: time/image settings.
+        renderer: draws the frames (default: grayscale at ``cfg.size`` for the scene's geometry).
     """
 
     def __init__(self, scene: Scene, cfg: SimConfig, renderer: Renderer | None = None) -> None:
         self.scene, self.cfg = scene, cfg
-        self.renderer = renderer or Renderer(scene.statics, scene.occluders, scene.extent, cfg.size)
-        self.frames: list[np.ndarray] = []
-        self.states: list[np.ndarray] = []
-        self.present: list[np.ndarray] = []
-        self.exists: list[np.ndarray] = []
+        self.geometry = scene.geometry()
+        self.renderer = renderer or renderer_cached(scene.statics, scene.occluders, scene.extent, cfg.size)
+        self._truth: list[np.ndarray] = []
 
     def capture(self, world: World) -> None:
         """Record the world as it is now."""
-        k = self.cfg.n_slots
-        st = world.observe(k)  # (K, F)
-        vis = visible_slots(world, self.scene, self.renderer.pix)
-        present = np.zeros(k, dtype=bool)
-        exists = np.zeros(k, dtype=bool)
-        objs = []
-        for slot, spec in world.specs().items():
-            b = world.body(slot)
-            exists[slot] = True
-            present[slot] = vis[slot]
-            objs.append((spec, b.position.x, b.position.y, b.angle))
-        objs.sort(key=lambda o: o[0].slot)  # draw order = slot order, deterministic
-        st[~present] = np.nan
-        self.frames.append(self.renderer.frame(objs))
-        self.states.append(st)
-        self.present.append(present)
-        self.exists.append(exists)
+        self._truth.append(world.poses(self.cfg.n_slots))  # (K, F) float64, NaN rows if absent
+
+    def truth(self) -> np.ndarray:
+        """True states so far ``(T, K, F)`` float32, also where an object is hidden (NaN if absent)."""
+        return np.stack(self._truth).astype(np.float32)
 
     def result(self) -> Recording:
-        return Recording(
-            frames=np.stack(self.frames), states=np.stack(self.states),
-            present=np.stack(self.present), exists=np.stack(self.exists),
-            geometry=self.scene.geometry(),
-        )
+        truth = np.stack(self._truth)  # (T, K, F) float64
+        exists = ~np.isnan(truth[..., 0])  # (T, K)
+        present = visible(truth, self.scene.occluders, self.scene.extent, self.renderer.pix)
+        states = truth.astype(np.float32)
+        states[~present] = np.nan
+        return Recording(frames=self.renderer.clip(states, present), states=states, present=present,
+                         exists=exists, geometry=self.geometry)
 
 
 def simulate(scene: Scene, cfg: SimConfig,

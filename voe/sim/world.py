@@ -139,17 +139,21 @@ class World:
         for _ in range(self.substeps):
             self.space.step(h)
 
+    def poses(self, n_slots: int) -> np.ndarray:
+        """True state of every slot now: ``(K, F)`` float64, NaN rows for missing objects."""
+        out = np.full((n_slots, N_FEATURES), np.nan)
+        for b in self.space.bodies:
+            spec: Body = b.voe_spec
+            (x, y), (vx, vy), angle = b.position, b.velocity, b.angle
+            if spec.shape == "box":
+                angle = math.remainder(angle, 2 * math.pi)
+            out[spec.slot] = (x, y, angle, vx, vy, b.angular_velocity, spec.shape == "circle",
+                              spec.shape == "box", spec.width, spec.height, spec.intensity)
+        return out
+
     def observe(self, n_slots: int) -> np.ndarray:
         """State of every slot now: ``(K, F)`` float32, NaN rows for missing objects."""
-        out = np.full((n_slots, N_FEATURES), np.nan, dtype=np.float32)
-        for slot, b in self.bodies().items():
-            spec: Body = b.voe_spec
-            angle = math.remainder(b.angle, 2 * math.pi) if spec.shape == "box" else b.angle
-            out[slot] = (
-                b.position.x, b.position.y, angle, b.velocity.x, b.velocity.y, b.angular_velocity,
-                spec.shape == "circle", spec.shape == "box", spec.width, spec.height, spec.intensity,
-            )
-        return out
+        return self.poses(n_slots).astype(np.float32)
 
     def bboxes(self) -> dict[int, tuple[tuple[float, float], tuple[float, float]]]:
         """Axis-aligned bounding boxes by slot, for occlusion tests."""
