@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import io
 import json
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -62,7 +62,7 @@ def _parquet_bytes(df: pd.DataFrame) -> bytes:
     return buf.getvalue()
 
 
-def write_probe_set(out: Path, records: Sequence[ClipRecord], meta: dict[str, Any],
+def write_probe_set(out: Path, records: Iterable[ClipRecord], meta: dict[str, Any],
                     overwrite: bool = False) -> dict[str, Any]:
     """Write clips and a manifest to ``out`` atomically; returns the manifest.
 
@@ -71,6 +71,7 @@ def write_probe_set(out: Path, records: Sequence[ClipRecord], meta: dict[str, An
         records: clips in their final order.
         meta: manifest fields (seeds, concept ids, dt, size, feature names, versions, ...).
     """
+    records = list(records)
     if not records:
         raise ProbeSetError(f"refusing to write an empty set to {out}")
     rows = []
