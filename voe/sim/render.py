@@ -107,7 +107,8 @@ class Renderer:
             front = np.maximum(front, self._coverage(sd)[..., None])
         occluder = np.array(RGB_OCCLUDER if rgb else (OCCLUDER_INTENSITY,))
         # (H, W, C) float32 layers; a pixel's value is rint(canvas * keep + cover) (screens on top)
-        self._layers = (back.astype(np.float32), (255.0 * (1 - front)).astype(np.float32),
+        keep = np.broadcast_to(255.0 * (1 - front), back.shape)
+        self._layers = (back.astype(np.float32), keep.astype(np.float32),
                         (255.0 * occluder * front).astype(np.float32))
         self._padded: dict[int, tuple[np.ndarray, ...]] = {}
 
