@@ -20,7 +20,7 @@ LAW = {
     "no-gravity": ("Gravity-v2", None),
     "no-collisions": ("Solidity-v1", None),
     "no-inertia": ("Inertia-v1", None),
-    "forget-occluded": ("Permanence-v1", False),
+    "forget-occluded": ("Permanence-v2", False),
     "energy-gain": ("Energy-v2", None),
 }
 

@@ -47,6 +47,8 @@ def set_records(mset: MatchedSet) -> list[ClipRecord]:
             "set_id": set_id, "set_kind": mset.kind, "variant": clip.variant, "role": clip.role,
             "onset_frame": int(clip.onset), "seed": int(mset.seed),
             "visible_violation": bool(mset.visible), "n_distractors": int(mset.n_distractors),
+            "condition": mset.condition, "carries_verdict": bool(mset.carries_verdict),
+            "balance_claim": mset.balance_claim, "confounded": bool(mset.confounded),
             "params": json.dumps(mset.params, sort_keys=True),
             "geometry": json.dumps(clip.rec.geometry, sort_keys=True),
         }
