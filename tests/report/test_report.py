@@ -39,13 +39,13 @@ def test_report_files_and_numbers(report):
     assert {"p_holm", "relative_surprise", "pair_acc_max", "auroc"} <= set(s.columns)
     assert len(s) == 4 * 2 and (s["n_sets"] == N_SETS).all()
     s = s.set_index(["model", "concept"])
-    for c in ("Permanence-v2", "Inertia-v1"):
+    for c in ("Permanence-v1", "Inertia-v1"):
         assert s.loc[("cheating", c), "accuracy"] == 1.0 and s.loc[("cheating", c), "verdict"] == "learned"
         # Holm over 2 concepts: 2 * 2**-6
         assert s.loc[("cheating", c), "p_holm"] == pytest.approx(2 * 2.0 ** -N_SETS)
         assert s.loc[("blind", c), "accuracy"] == 0.5 and s.loc[("blind", c), "verdict"] == "not learned"
     # spliced quadruplets: a frame-only scorer ties exactly
-    assert s.loc[("pixel-sum", "Permanence-v2"), "accuracy"] == 0.5
+    assert s.loc[("pixel-sum", "Permanence-v1"), "accuracy"] == 0.5
 
 
 def test_report_text_and_embedding(report):
@@ -123,7 +123,7 @@ def test_report_from_generated_permanence_probes(tmp_path):
 
     probes = tmp_path / "probes"
     generate_probe_set(probes, ["Permanence-v2"], 4, 0, SimConfig(size=32))
-    for model in (CheatingModel(), BlindModel()):
+    for model in (CheatingModel(probes), BlindModel()):
         score_probe_set(model, probes, tmp_path / model.name)
     s = build_report([tmp_path / "cheating", tmp_path / "blind"], tmp_path / "rep", n_boot=500)
     s = s.set_index("model")
