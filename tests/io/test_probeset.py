@@ -19,7 +19,7 @@ def test_same_seed_gives_byte_identical_sets_whatever_jobs(tmp_path):
     assert m1["files"] == m2["files"]
     assert (tmp_path / "a/manifest.json").read_bytes() == (tmp_path / "b/manifest.json").read_bytes()
     m3 = generate_probe_set(tmp_path / "c", ["Permanence-v2"], 3, 8, CFG)
-    assert m3["files"]["frames.npy"] != m1["files"]["frames.npy"]
+    assert m3["files"]["shards/00000/frames.npy"] != m1["files"]["shards/00000/frames.npy"]
 
 
 def test_load_round_trip_and_api(tiny_probes):
@@ -45,9 +45,9 @@ def test_validate_passes_then_catches_corruption(tiny_probes, tmp_path):
     assert validate_probe_set(load_probe_set(tiny_probes)).ok
     bad = tmp_path / "bad"
     shutil.copytree(tiny_probes, bad)
-    arr = np.load(bad / "frames.npy")
+    arr = np.load(bad / "shards/00000/frames.npy")
     arr[2, 5, 0, 0] ^= 1
-    np.save(bad / "frames.npy", arr)
+    np.save(bad / "shards/00000/frames.npy", arr)
     rep = validate_probe_set(load_probe_set(bad))
     assert any("sha256" in p for p in rep.problems)
     assert any("frame multisets differ" in p or "frames differ" in p for p in rep.problems)

@@ -15,7 +15,7 @@ import pandas as pd
 
 from voe.errors import ProbeSetError
 from voe.io.balance import LEVELS, ClipData, parse_claim, set_problems
-from voe.io.probeset import ARRAYS, ROLES, ProbeSet
+from voe.io.probeset import ROLES, ProbeSet
 from voe.io.provenance import sha256_file
 
 
@@ -34,7 +34,7 @@ class ValidationReport:
 
 def _checksums(ps: ProbeSet, rep: ValidationReport) -> None:
     files = ps.manifest.get("files", {})
-    for name in ("index.parquet",) + tuple(f"{a}.npy" for a in ARRAYS):
+    for name in ["index.parquet", *ps.data_files()]:
         if name not in files:
             rep.problems.append(f"manifest.json lists no checksum for {name}")
     for name, digest in files.items():
@@ -55,7 +55,7 @@ def _schema(ps: ProbeSet, rep: ValidationReport) -> bool:
     for name, (shape, dtype) in want.items():
         arr = ps.array(name)
         if arr.shape != shape or arr.dtype != dtype:
-            rep.problems.append(f"{ps.path / (name + '.npy')}: {arr.dtype}{arr.shape}, expected "
+            rep.problems.append(f"{ps.path} {name}: {arr.dtype}{arr.shape}, expected "
                                 f"{np.dtype(dtype)}{shape}")
             ok = False
     if m.get("n_clips") != n:
@@ -69,9 +69,12 @@ def _schema(ps: ProbeSet, rep: ValidationReport) -> bool:
     if ((onset < 0) | (onset >= T)).any() and (ps.index["role"] != "train").all():
         rep.problems.append("index.parquet: onset_frame outside [0, T)")
     if ok:
-        nan_rows = np.isnan(np.asarray(ps.array("states"))).all(axis=-1)  # (N, T, K)
-        if (nan_rows != ~np.asarray(ps.array("present"))).any():
-            rep.problems.append("states.npy: NaN rows do not match present.npy")
+        for start in range(0, n, 256):  # a chunk of clips at a time: memory does not grow with n
+            rows = np.arange(start, min(n, start + 256))
+            nan_rows = np.isnan(ps.array("states")[rows]).all(axis=-1)  # (n, T, K)
+            if (nan_rows != ~ps.array("present")[rows]).any():
+                rep.problems.append("states.npy: NaN rows do not match present.npy")
+                break
     return ok
 
 
