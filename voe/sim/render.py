@@ -62,17 +62,18 @@ def visible(states: np.ndarray, occluders: Iterable[Occluder], extent: tuple[flo
     return out
 
 
-_WORK: dict[tuple[int, ...], np.ndarray] = {}  # float32 work canvases by (H', W', C), shared
+_WORK: dict[tuple[int, ...], np.ndarray] = {}  # float32 work canvases by (T, H', W', C), shared
 
 
 @dataclass
-class _Patch:
-    """One slot's object in all frames it is present: pixel indices into the padded canvas."""
+class _Patches:
+    """Every present object of a clip, slot after slot: pixel indices into the padded canvas."""
 
-    pix: np.ndarray  # (n*P*P,) flat pixel index into (H', W')
-    idx: np.ndarray  # (n*P*P,) flat index into (T, H', W')
-    cov: np.ndarray  # (n*P*P, 1) float32 coverage
-    colour: np.ndarray  # (n*P*P, C) float32
+    pix: np.ndarray  # (N*P*P,) flat pixel index into (H', W')
+    idx: np.ndarray  # (N*P*P,) flat index into (T, H', W')
+    cov: np.ndarray  # (N*P*P, 1) float32 coverage
+    colour: np.ndarray  # (N*P*P, C) float32
+    bounds: list[tuple[int, int]]  # per slot drawn, its [start, stop) in the flat arrays
 
 
 class Renderer:
@@ -97,14 +98,17 @@ class Renderer:
         back = np.empty((size, size, c))
         back[:] = RGB_BACKGROUND if rgb else BACKGROUND
         static = np.array(RGB_STATIC if rgb else (STATIC_INTENSITY,))
-        for seg in statics:
-            cov = self._coverage(_sd_segment(px, py, seg.a, seg.b, seg.radius))[..., None]
-            back = back * (1 - cov) + static * cov
+        for seg in statics:  # each shape only where it can cover a pixel (elsewhere coverage is 0)
+            r, ((ax, ay), (bx, by)) = seg.radius, (seg.a, seg.b)
+            w = self._window(min(ax, bx) - r, max(ax, bx) + r, min(ay, by) - r, max(ay, by) + r)
+            cov = self._coverage(_sd_segment(px[w], py[w], seg.a, seg.b, r))[..., None]
+            back[w] = back[w] * (1 - cov) + static * cov
         front = np.zeros((size, size, 1))
         for occ in occluders:
-            sd = _sd_box(px, py, (occ.x0 + occ.x1) / 2, (occ.y0 + occ.y1) / 2, 0.0,
+            w = self._window(occ.x0, occ.x1, occ.y0, occ.y1)
+            sd = _sd_box(px[w], py[w], (occ.x0 + occ.x1) / 2, (occ.y0 + occ.y1) / 2, 0.0,
                          (occ.x1 - occ.x0) / 2, (occ.y1 - occ.y0) / 2)
-            front = np.maximum(front, self._coverage(sd)[..., None])
+            front[w] = np.maximum(front[w], self._coverage(sd)[..., None])
         occluder = np.array(RGB_OCCLUDER if rgb else (OCCLUDER_INTENSITY,))
         # (H, W, C) float32 layers; a pixel's value is rint(canvas * keep + cover) (screens on top)
         keep = np.broadcast_to(255.0 * (1 - front), back.shape)
@@ -112,14 +116,25 @@ class Renderer:
                         (255.0 * occluder * front).astype(np.float32))
         self._padded: dict[int, tuple[np.ndarray, ...]] = {}
 
+    def _window(self, x0: float, x1: float, y0: float, y1: float) -> tuple[slice, slice]:
+        """Rows and columns of the pixels within two pixels of the box ``[x0, x1] x [y0, y1]``."""
+        S, p = self.size, self.pix
+        cols = slice(int(np.clip(np.floor(x0 / p) - 2, 0, S)), int(np.clip(np.ceil(x1 / p) + 2, 0, S)))
+        rows = slice(int(np.clip(np.floor((self.extent[1] - y1) / p) - 2, 0, S)),
+                     int(np.clip(np.ceil((self.extent[1] - y0) / p) + 2, 0, S)))
+        return rows, cols
+
     def _coverage(self, sd: np.ndarray) -> np.ndarray:
         return np.clip(0.5 - sd / self.pix, 0.0, 1.0)
 
     def _layers_padded(self, pad: int) -> tuple[np.ndarray, ...]:
-        """Background, keep, cover and the finished empty frame, padded by ``pad`` (edge values)."""
+        """Background, keep, cover and the finished empty frame with a margin of ``pad`` pixels
+        (the margin's values never reach an output frame)."""
         if pad not in self._padded:
-            back, keep, cover = (np.pad(x, ((pad, pad), (pad, pad), (0, 0)), mode="edge")
-                                 for x in self._layers)
+            S, C = self.size, self._layers[0].shape[-1]
+            back, keep, cover = (np.zeros((S + 2 * pad, S + 2 * pad, C), np.float32) for _ in range(3))
+            for dst, src in zip((back, keep, cover), self._layers, strict=True):
+                dst[pad:-pad, pad:-pad] = src
             empty = np.rint(back * keep + cover).astype(np.uint8)
             self._padded[pad] = (back, keep, cover, empty)
         return self._padded[pad]
@@ -132,41 +147,40 @@ class Renderer:
         is done only in the patches that objects cover; elsewhere a frame is the empty scene.
         """
         T, K = present.shape
-        ext = np.ceil(np.nan_to_num(np.maximum(*half_extents(states))).max(initial=0.0) / self.pix)
-        pad = max(16, 8 * int(np.ceil((2 * ext + 4) / 8)))  # every object's patch fits in the margin
+        k, t = np.nonzero(present.T)  # (N,) slot and frame of every present object, slot-major
+        st = states[t, k].astype(np.float64)  # (N, F)
+        P = int(np.ceil(2 * np.max(half_extents(st), initial=0.0) / self.pix)) + 3  # patch side
+        pad = 8 * int(np.ceil(max(16, P + 4) / 8))  # margin that any patch fits in
         back, keep, cover, empty = self._layers_padded(pad)
-        patches = [self._patch(t, states[t, k].astype(np.float64), k, pad)
-                   for k in range(K) if (t := np.flatnonzero(present[:, k])).size]
         out = np.empty((T,) + empty.shape, dtype=np.uint8)  # (T, H', W', C)
         out[:] = empty
-        if patches:
+        if len(t):
             C = empty.shape[-1]
-            work = _WORK.get(empty.shape)
-            if work is None or len(work) < T:
-                work = _WORK[empty.shape] = np.zeros((T,) + empty.shape, dtype=np.float32)
+            work = _WORK.get((T,) + empty.shape)
+            if work is None:
+                work = _WORK[(T,) + empty.shape] = np.zeros((T,) + empty.shape, dtype=np.float32)
             w, o = work.reshape(-1, C), out.reshape(-1, C)  # (T*H'*W', C) views
             back, keep, cover = (x.reshape(-1, C) for x in (back, keep, cover))
-            for p in patches:  # reset every patch to the background first: patches overlap
-                w[p.idx] = back[p.pix]
-            for p in patches:  # then blend objects in slot order
-                w[p.idx] = w[p.idx] * (1 - p.cov) + p.colour * p.cov
-            for p in patches:
-                v = w[p.idx] * keep[p.pix] + cover[p.pix]
-                o[p.idx] = np.rint(v, out=v)
+            p = self._patches(t, k, st, P, pad)
+            w[p.idx] = back[p.pix]  # reset the patches to the background first: patches overlap
+            for a, b in p.bounds:  # then blend the objects in slot order
+                i, cov = p.idx[a:b], p.cov[a:b]
+                w[i] = w[i] * (1 - cov) + p.colour[a:b] * cov
+            v = w[p.idx] * keep[p.pix] + cover[p.pix]
+            o[p.idx] = np.rint(v, out=v)
         out = np.ascontiguousarray(out[:, pad:-pad, pad:-pad])  # (T, H, W, C)
         return out if self.rgb else out[..., 0]
 
-    def _patch(self, t: np.ndarray, st: np.ndarray, slot: int, pad: int) -> _Patch:
-        """Coverage of one slot's object around it at frames ``t``; ``st`` (n, F) its states."""
-        ex, ey = half_extents(st)  # (n,)
+    def _patches(self, t: np.ndarray, k: np.ndarray, st: np.ndarray, P: int, pad: int) -> _Patches:
+        """Coverage of each object in a ``P x P`` patch around it; ``t``, ``k`` (N,), ``st`` (N, F)."""
+        ex, ey = half_extents(st)  # (N,)
         x, y = st[:, X], st[:, Y]
         j0 = np.floor((x - ex) / self.pix - 1).astype(np.int64)  # first column the object can tint
         i0 = np.floor((self.extent[1] - y - ey) / self.pix - 1).astype(np.int64)
-        P = int(np.ceil(2 * max(ex.max(), ey.max()) / self.pix)) + 3
         r = np.arange(P)
-        jj, ii = j0[:, None] + r, i0[:, None] + r  # (n, P)
-        dx = (jj[:, None, :] + 0.5) * self.pix - x[:, None, None]  # (n, 1, P)
-        dy = (self.extent[1] - (ii[:, :, None] + 0.5) * self.pix) - y[:, None, None]  # (n, P, 1)
+        jj, ii = j0[:, None] + r, i0[:, None] + r  # (N, P)
+        dx = (jj[:, None, :] + 0.5) * self.pix - x[:, None, None]  # (N, 1, P)
+        dy = (self.extent[1] - (ii[:, :, None] + 0.5) * self.pix) - y[:, None, None]  # (N, P, 1)
         circle = st[:, IS_CIRCLE] > 0.5
         sd = np.empty((len(t), P, P))
         if circle.any():
@@ -180,14 +194,16 @@ class Renderer:
             qy = np.abs(-s * dx[box] + c * dy[box]) - 0.5 * st[box, HEIGHT, None, None]
             ox, oy = np.maximum(qx, 0), np.maximum(qy, 0)
             sd[box] = np.sqrt(ox * ox + oy * oy) + np.minimum(np.maximum(qx, qy), 0)
-        colour = st[:, INTENSITY, None]  # (n, 1)
+        colour = st[:, INTENSITY, None]  # (N, 1)
         if self.rgb:
-            colour = colour * np.array(RGB_SLOTS[slot % len(RGB_SLOTS)])  # (n, 3)
+            colour = colour * np.array(RGB_SLOTS)[k % len(RGB_SLOTS)]  # (N, 3)
         side = self.size + 2 * pad
-        pix = ((ii + pad)[:, :, None] * side + (jj + pad)[:, None, :]).ravel()  # (n*P*P,)
-        idx = (np.repeat(t, P * P) * (side * side) + pix)
-        return _Patch(pix, idx, self._coverage(sd).reshape(-1, 1).astype(np.float32),
-                      np.repeat(colour, P * P, axis=0).astype(np.float32))
+        pix = ((ii + pad)[:, :, None] * side + (jj + pad)[:, None, :]).ravel()  # (N*P*P,)
+        starts = np.flatnonzero(np.r_[True, k[1:] != k[:-1]])
+        bounds = [(int(a) * P * P, int(b) * P * P) for a, b in zip(starts, np.r_[starts[1:], len(k)], strict=True)]
+        return _Patches(pix, np.repeat(t, P * P) * (side * side) + pix,
+                        self._coverage(sd).reshape(-1, 1).astype(np.float32),
+                        np.repeat(colour, P * P, axis=0).astype(np.float32), bounds)
 
     # -- single frames (tests, figures) ---------------------------------------------------------
     def frame(self, objects: Iterable[tuple[Body, float, float, float]]) -> np.ndarray:

@@ -8,7 +8,6 @@ module is the single place that turns a stepping world into that record, so conc
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -18,26 +17,36 @@ from voe.sim.scene import Scene, SimConfig
 from voe.sim.world import World
 
 
-@dataclass
 class Recording:
     """Observations of one clip.
 
     Attributes:
-        frames: ``(T, H, W)`` uint8.
+        frames: ``(T, H, W)`` uint8; drawn from the states on first access when the recording
+            was made by a ``Recorder`` (a rollout that is only compared, never stored, such as a
+            concept's ghost run, is then never drawn).
         states: ``(T, K, F)`` float32; NaN where the slot is not present.
         present: ``(T, K)`` bool; the object exists, is in the window and is not fully occluded.
         exists: ``(T, K)`` bool; the object exists (ground truth, visible or not).
         geometry: JSON-able static geometry and occluders (``Scene.geometry()``).
     """
 
-    frames: np.ndarray
-    states: np.ndarray
-    present: np.ndarray
-    exists: np.ndarray
-    geometry: dict[str, Any] = field(default_factory=dict)
+    def __init__(self, frames: np.ndarray | None, states: np.ndarray, present: np.ndarray,
+                 exists: np.ndarray, geometry: dict[str, Any] | None = None,
+                 draw: Callable[[], np.ndarray] | None = None) -> None:
+        if frames is None and draw is None:
+            raise ValueError("a Recording needs frames or a way to draw them")
+        self._frames, self._draw = frames, draw
+        self.states, self.present, self.exists = states, present, exists
+        self.geometry = geometry if geometry is not None else {}
+
+    @property
+    def frames(self) -> np.ndarray:
+        if self._frames is None:
+            self._frames, self._draw = self._draw(), None
+        return self._frames
 
     def __len__(self) -> int:
-        return int(self.frames.shape[0])
+        return int(self.states.shape[0])
 
 
 def visible_slots(world: World, scene: Scene, pixel: float = 0.0) -> dict[int, bool]:
@@ -80,8 +89,9 @@ class Recorder:
         present = visible(truth, self.scene.occluders, self.scene.extent, self.renderer.pix)
         states = truth.astype(np.float32)
         states[~present] = np.nan
-        return Recording(frames=self.renderer.clip(states, present), states=states, present=present,
-                         exists=exists, geometry=self.geometry)
+        renderer = self.renderer
+        return Recording(None, states, present, exists, self.geometry,
+                         draw=lambda: renderer.clip(states, present))
 
 
 def simulate(scene: Scene, cfg: SimConfig,
