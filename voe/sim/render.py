@@ -183,15 +183,18 @@ class Renderer:
         dy = (self.extent[1] - (ii[:, :, None] + 0.5) * self.pix) - y[:, None, None]  # (N, P, 1)
         circle = st[:, IS_CIRCLE] > 0.5
         sd = np.empty((len(t), P, P))
-        if circle.any():
-            dxc, dyc = dx[circle], dy[circle]  # sqrt, not hypot: libm's hypot is 20x slower here
-            sd[circle] = np.sqrt(dxc * dxc + dyc * dyc) - 0.5 * st[circle, WIDTH, None, None]
-        box = ~circle
-        if box.any():
+        # boolean selection copies; when every object is of one kind a plain view does
+        circ = slice(None) if circle.all() else circle if circle.any() else None
+        box = slice(None) if circ is None else None if circle.all() else ~circle
+        if circ is not None:
+            dxc, dyc = dx[circ], dy[circ]  # sqrt, not hypot: libm's hypot is 20x slower here
+            sd[circ] = np.sqrt(dxc * dxc + dyc * dyc) - 0.5 * st[circ, WIDTH, None, None]
+        if box is not None:
             a = st[box, ANGLE, None, None]
             c, s = np.cos(a), np.sin(a)
-            qx = np.abs(c * dx[box] + s * dy[box]) - 0.5 * st[box, WIDTH, None, None]
-            qy = np.abs(-s * dx[box] + c * dy[box]) - 0.5 * st[box, HEIGHT, None, None]
+            dxb, dyb = dx[box], dy[box]
+            qx = np.abs(c * dxb + s * dyb) - 0.5 * st[box, WIDTH, None, None]
+            qy = np.abs(-s * dxb + c * dyb) - 0.5 * st[box, HEIGHT, None, None]
             ox, oy = np.maximum(qx, 0), np.maximum(qy, 0)
             sd[box] = np.sqrt(ox * ox + oy * oy) + np.minimum(np.maximum(qx, qy), 0)
         colour = st[:, INTENSITY, None]  # (N, 1)

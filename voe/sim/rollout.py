@@ -11,10 +11,11 @@ from collections.abc import Callable
 from typing import Any
 
 import numpy as np
+import pymunk.batch
 
 from voe.sim.render import Renderer, renderer_cached, visible
 from voe.sim.scene import Scene, SimConfig
-from voe.sim.world import World
+from voe.sim.world import World, decode_poses
 
 
 class Recording:
@@ -73,18 +74,23 @@ class Recorder:
         self.scene, self.cfg = scene, cfg
         self.geometry = scene.geometry()
         self.renderer = renderer or renderer_cached(scene.statics, scene.occluders, scene.extent, cfg.size)
-        self._truth: list[np.ndarray] = []
+        self._buf = pymunk.batch.Buffer()  # raw pose reads, appended once per frame
+        self._frames: list[tuple[int, dict]] = []  # per frame: bodies read so far, their looks
 
     def capture(self, world: World) -> None:
-        """Record the world as it is now."""
-        self._truth.append(world.poses(self.cfg.n_slots))  # (K, F) float64, NaN rows if absent
+        """Record the world as it is now (one batched read; decoded in ``truth``/``result``)."""
+        looks = world.read_poses(self._buf)
+        self._frames.append((len(self._buf.int_buf()) // 8, looks))
+
+    def _truth(self) -> np.ndarray:
+        return decode_poses(self._buf, self._frames, self.cfg.n_slots)  # (T, K, F) float64
 
     def truth(self) -> np.ndarray:
         """True states so far ``(T, K, F)`` float32, also where an object is hidden (NaN if absent)."""
-        return np.stack(self._truth).astype(np.float32)
+        return self._truth().astype(np.float32)
 
     def result(self) -> Recording:
-        truth = np.stack(self._truth)  # (T, K, F) float64
+        truth = self._truth()  # (T, K, F) float64
         exists = ~np.isnan(truth[..., 0])  # (T, K)
         present = visible(truth, self.scene.occluders, self.scene.extent, self.renderer.pix)
         states = truth.astype(np.float32)
