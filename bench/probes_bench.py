@@ -18,6 +18,7 @@ Run: python bench/probes_bench.py [--sets 20]
 from __future__ import annotations
 
 import argparse
+import os
 import statistics
 import tempfile
 import time
@@ -28,6 +29,9 @@ import pymunk
 from voe.concepts import CONCEPTS, SUITES, get_concept
 from voe.sim import world as world_mod
 from voe.sim.scene import SimConfig
+
+#: CPU seconds of this process: on a shared machine, wall time counts other people's work too.
+clock = time.process_time
 
 
 def census(concept, sets: int, cfg: SimConfig) -> list[tuple[tuple, int]]:
@@ -57,13 +61,13 @@ def raw_seconds(worlds: list[tuple[tuple, int]]) -> tuple[float, float]:
     """Seconds to build the census worlds' pymunk spaces, and to run only ``space.step`` on them."""
     build = step = 0.0
     for args, n in worlds:
-        t0 = time.perf_counter()
+        t0 = clock()
         w = world_mod.World(*args)
-        t1 = time.perf_counter()
+        t1 = clock()
         space, h = w.space, w.dt / w.substeps
         for _ in range(n * w.substeps):
             space.step(h)
-        t2 = time.perf_counter()
+        t2 = clock()
         build, step = build + t1 - t0, step + t2 - t1
     return build, step
 
@@ -77,15 +81,16 @@ def generic_seconds(n_frames: int, cfg: SimConfig) -> float:
         b = pymunk.Body(1, pymunk.moment_for_circle(1, 0, 0.5))
         b.position, b.velocity = (1 + 2 * i, 1.1), (2, 0)
         space.add(b, pymunk.Circle(b, 0.5))
-    t0 = time.perf_counter()
+    t0 = clock()
     for _ in range(n_frames * cfg.substeps):
         space.step(cfg.dt / cfg.substeps)
-    return time.perf_counter() - t0
+    return clock() - t0
 
 
 def generation(sets: int, cfg: SimConfig) -> None:
     print(f"probe generation, {sets} sets per concept, T={cfg.n_frames}, {cfg.size}x{cfg.size}, "
-          f"{cfg.substeps} substeps; reference: the same worlds, built and stepped by pymunk alone")
+          f"{cfg.substeps} substeps; reference: the same worlds, built and stepped by pymunk alone "
+          f"(CPU seconds of this process)")
     print(f"{'concept':<22}{'sets/s':>8}{'frames/s':>10}{'worlds':>8}{'build s':>9}{'step s':>8}"
           f"{'gen s':>8}{'vs build+step':>15}{'vs step':>9}{'old ref':>9}")
     ratios, strict, old = [], [], []
@@ -93,9 +98,10 @@ def generation(sets: int, cfg: SimConfig) -> None:
         c = get_concept(CONCEPTS.resolve(name))
         c.make_set(0, 0, cfg)  # load the spec once, outside the timing
         worlds = census(c, sets, cfg)
-        t0 = time.perf_counter()
-        frames = sum(len(cl.rec) for i in range(sets) for cl in c.make_set(i, 0, cfg).clips)
-        gen = time.perf_counter() - t0
+        t0 = clock()
+        frames = sum(len(cl.rec) for i in range(sets)
+                     for cl in c.make_set(i, 0, cfg).clips if cl.rec.frames is not None)  # drawn
+        gen = clock() - t0
         build, step = raw_seconds(worlds)
         ratios.append((build + step) / gen)
         strict.append(step / gen)
@@ -108,27 +114,37 @@ def generation(sets: int, cfg: SimConfig) -> None:
           f"stepped for the stored frames): {statistics.median(old):.2f}x")
 
 
+def cpu_all() -> float:
+    """CPU seconds of this process and of its finished children (pool workers, ffmpeg)."""
+    t = os.times()
+    return t.user + t.system + t.children_user + t.children_system
+
+
 def disk(sets: int, cfg: SimConfig) -> None:
     from voe.concepts.generate import generate_probe_set
     from voe.io.export import export_probe_set
 
     ids = [CONCEPTS.resolve(n) for n in SUITES["core"]]
+    print(f"to disk (load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores; clips per wall "
+          f"second, and per CPU second of all processes)")
+
+    def line(what: str, run) -> int:
+        w0, c0 = time.perf_counter(), cpu_all()
+        n = run()
+        wall, cpu = time.perf_counter() - w0, cpu_all() - c0
+        print(f"  {what:<40}{n:>5} clips {wall:>7.1f} s wall {n / wall:>7.1f} clips/s "
+              f"{n / cpu:>7.1f} clips/CPU-s")
+        return n
+
     with tempfile.TemporaryDirectory() as tmp:
-        gen = {}
+        root = Path(tmp)
         for jobs in (1, 2):
-            t0 = time.perf_counter()
-            m = generate_probe_set(Path(tmp) / f"p{jobs}", ids, sets, 0, cfg, jobs=jobs)
-            gen[jobs] = time.perf_counter() - t0
-            print(f"core suite to disk at {cfg.size} px, --per-concept {sets} --jobs {jobs}: "
-                  f"{m['n_clips']} clips in {gen[jobs]:.1f} s ({m['n_clips'] / gen[jobs]:.1f} clips/s)")
-        n = m["n_clips"]
-        for fmt in ("mp4", "png"):
-            t0 = time.perf_counter()
-            export_probe_set(Path(tmp) / "p1", Path(tmp) / f"x-{fmt}", fmt=fmt, size=224, rgb=True)
-            wall = time.perf_counter() - t0
-            print(f"export at 224 px RGB to {fmt}, 1 process: {n} clips in {wall:.1f} s "
-                  f"({n / wall:.1f} clips/s; generation at {cfg.size} px, 1 process: "
-                  f"{n / gen[1]:.1f} clips/s)")
+            line(f"generate core suite, {cfg.size} px gray, --jobs {jobs}",
+                 lambda j=jobs: generate_probe_set(root / f"p{j}", ids, sets, 0, cfg, jobs=j)["n_clips"])
+        for fmt, jobs in (("mp4", 1), ("mp4", 2), ("png", 1)):
+            line(f"export 224 px RGB {fmt}, --jobs {jobs}",
+                 lambda f=fmt, j=jobs: export_probe_set(root / "p1", root / f"x-{f}{j}", fmt=f, size=224,
+                                                        rgb=True, jobs=j)["n_clips"])
 
 
 def main() -> None:
