@@ -109,17 +109,18 @@ class CheatingModel:
         probes: the probe-set directory; its index says which clip (by opaque key) is impossible
             and where its onset is.
         jump: extra surprise from the onset of an impossible clip on.
+        surprise_kind: what it declares its surprise to be (``nll``, ``bound`` or ``error``).
     """
 
     observation = "frames"
 
-    def __init__(self, probes: str | Path, jump: float = 5.0) -> None:
+    def __init__(self, probes: str | Path, jump: float = 5.0, surprise_kind: str = "nll") -> None:
         from voe.io.clipkey import clip_key
         from voe.io.probeset import load_probe_set
 
         ps = load_probe_set(probes)
         sha = ps.manifest_sha256
-        self.name, self.jump = "cheating", float(jump)
+        self.name, self.jump, self.surprise_kind = "cheating", float(jump), surprise_kind
         self.onset = {clip_key(sha, str(r.clip_id)): int(r.onset_frame)
                       for r in ps.index.itertuples() if r.role == "impossible"}
 

@@ -6,6 +6,8 @@ from pathlib import Path
 
 import typer
 
+from voe.cli.common import claims_output
+
 
 def _forward(probes: Path, model: str | None, out: Path, checkpoint: Path | None, model_arg: list[str] | None,
              batch_size: int, seed: int, no_check: bool, cache: Path | None, device: str | None,
@@ -45,6 +47,7 @@ def register(app: typer.Typer) -> None:
     """Add the top-level ``score`` command to ``app``."""
 
     @app.command("score")
+    @claims_output("dir")
     def score(
         probes: Path = typer.Option(..., "--probes", help="Probe-set directory."),
         out: Path = typer.Option(..., "--out", help="Run directory to write (must be new or empty)."),
@@ -60,6 +63,9 @@ def register(app: typer.Typer) -> None:
         bf16: bool = typer.Option(False, "--bf16", help="bf16 autocast around each frame_nll call (torch models)."),
         launcher: str = typer.Option("python", "--launcher", help="python (this process) or torchrun."),
         nproc: int = typer.Option(2, "--nproc", min=1, help="Ranks for --launcher torchrun."),
+        surprises: Path | None = typer.Option(None, "--surprises", help="Score a table computed elsewhere: csv/parquet with clip_key, [frame,] surprise."),
+        surprise_kind: str = typer.Option("nll", "--surprise-kind", help="With --surprises: nll, bound or error."),
+        name: str | None = typer.Option(None, "--name", help="With --surprises: the model name in reports [default: file stem]."),
         overwrite: bool = typer.Option(False, help="Replace an existing run directory."),
     ) -> None:
         """Score every clip blind (opaque keys, shuffled order) and write frames.parquet, clips.parquet, run.json."""
@@ -67,8 +73,17 @@ def register(app: typer.Typer) -> None:
 
         if launcher not in ("python", "torchrun"):
             raise VoeError(f"--launcher must be python or torchrun, not {launcher!r}")
+        if surprises is not None:
+            if model is not None or launcher != "python":
+                raise VoeError("--surprises scores a table computed elsewhere; drop --model and --launcher")
+            from voe.scoring.external import score_surprises
+
+            meta = score_surprises(probes, surprises, out, kind=surprise_kind, name=name, overwrite=overwrite)
+            typer.echo(f"wrote {meta['probes']['n_clips']} clips of {surprises.name} "
+                       f"(surprise kind {meta['surprise_kind']}) to {out}")
+            return
         if model is None:
-            raise VoeError("give --model (a registered id or module:attr)")
+            raise VoeError("give --model (a registered id or module:attr) or --surprises FILE")
         if launcher == "torchrun":
             import os
 

@@ -15,7 +15,7 @@ User file (``--controls my_controls.yaml``)::
       - name: my-sim-without-friction
         model: mypkg.sims:NoFriction          # or a registered model name
         args: {noise: 0.1}                     # optional, as --model-arg
-        checkpoint: runs/ckpt                  # optional
+        checkpoint: runs/ckpt                  # optional, relative to this file, inside its folder
         should_fail: [solidity]
         should_pass: [permanence, gravity]
         default: pass                          # for unlisted concepts (pass|fail|chance|none)
@@ -30,6 +30,7 @@ from typing import Any
 import yaml
 
 from voe.errors import VoeError
+from voe.io.paths import inside
 
 EXPECTATIONS = ("pass", "fail", "chance", "none")
 
@@ -109,7 +110,13 @@ def load_user_controls(path: Path) -> list[Control]:
         default = str(e.get("default", "none"))
         if default not in EXPECTATIONS:
             raise VoeError(f"{path}: default '{default}' of control '{e['name']}' is not one of {EXPECTATIONS}")
+        ckpt = e.get("checkpoint")
+        if ckpt is not None:  # relative to the YAML file, and never outside its directory
+            ckpt = str(inside(path.parent, ckpt, path))
+        args = e.get("args") or {}
+        if not isinstance(args, dict):
+            raise VoeError(f"{path}: 'args' of control '{e['name']}' must be a mapping")
         out.append(Control(name=str(e["name"]), family="user", model=str(e["model"]),
-                           args=dict(e.get("args") or {}), checkpoint=e.get("checkpoint"),
+                           args=dict(args), checkpoint=ckpt,
                            expect=expect, default=default, why=str(e.get("why", "declared by the user"))))
     return out
