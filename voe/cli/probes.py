@@ -112,6 +112,7 @@ def show(
 
 
 @app.command("export")
+@claims_output("dir")
 def export(
     path: Path = typer.Argument(..., help="Probe-set directory."),
     out: Path = typer.Option(..., "--out", help="Directory to write (must be new or empty)."),
@@ -123,12 +124,11 @@ def export(
     overwrite: bool = typer.Option(False, help="Replace an existing output directory."),
 ) -> None:
     """Export clips for outside tools: opaque names, metadata.parquet/.csv, answers.parquet apart."""
-    from voe.io.export import ExportOptions, check_output, export_probe_set
+    from voe.io.export import ExportOptions, export_probe_set
     from voe.io.probeset import load_probe_set
     from voe.progress import progress
 
     ExportOptions(fmt, size, rgb, layout).validate()  # fail before opening anything
-    check_output(out, overwrite)
     n_sets = load_probe_set(path).index["set_id"].nunique()
     with progress(n_sets, "matched sets", "set") as tick:
         m = export_probe_set(path, out, fmt, size, rgb, layout, overwrite, jobs, tick)

@@ -35,6 +35,7 @@ from voe import __version__
 from voe.errors import VoeError
 from voe.io.atomic import atomic_dir
 from voe.io.clipkey import clip_key, set_key
+from voe.io.outputs import check_output
 from voe.io.probeset import ProbeSet, load_probe_set
 from voe.io.provenance import package_versions, sha256_file
 from voe.io.video import MP4_PARAMS, MP4_PIX_FMT, ffmpeg_version, write_mp4, write_pngs
@@ -66,14 +67,6 @@ class ExportOptions:
             raise VoeError(f"--size {self.size}: use a frame side from {lo} to {hi} pixels")
         if self.layout == "intphys" and self.fmt != "png":
             raise VoeError("--layout intphys writes PNG frames as IntPhys does; use --format png")
-
-
-def check_output(out: str | Path, overwrite: bool) -> Path:
-    """Refuse an existing, non-empty output directory before any work is done."""
-    out = Path(out)
-    if out.exists() and (not out.is_dir() or any(out.iterdir())) and not overwrite:
-        raise VoeError(f"output directory {out} already exists and is not empty (pass --overwrite)")
-    return out
 
 
 def _plan(ps: ProbeSet, layout: str) -> pd.DataFrame:
@@ -165,7 +158,7 @@ def export_probe_set(probes: str | Path, out: str | Path, fmt: str = "mp4", size
     """
     opts = ExportOptions(fmt, size, rgb, layout)
     opts.validate()
-    out = check_output(out, overwrite)
+    out = check_output(out, "dir", overwrite)
     ps = load_probe_set(probes)
     fps = 1.0 / ps.dt
     plan = _plan(ps, layout)
