@@ -86,8 +86,11 @@ class GapFinder:
 
     @property
     def groups_(self) -> list[list[str]]:
+        return [list(r.group) for r in self._kept_rounds()]
+
+    def _kept_rounds(self) -> list:
         kept = set(self.checked_.keys)
-        return [g for g in self.search_.result.groups if g and g[0] in kept]
+        return [r for r in self.search_.result.rounds if r.winner and r.winner in kept]
 
     @property
     def threshold_(self) -> float:
@@ -138,7 +141,7 @@ class GapFinder:
         best = max(r0.gains.items(), key=lambda kv: kv[1]) if r0 and r0.gains else None
         return explain(self.verdict_, self.effects_, self.groups_, self.located_, self.checked_.verification,
                        self.threshold_, self.problem_.sigma, self.checked_.test_note, self.z_strong_,
-                       self.checked_.dropped, best)
+                       self.checked_.dropped, best, [r.basis for r in self._kept_rounds()])
 
     def to_dict(self) -> dict:
         """The diagnosis as plain JSON-ready data (without provenance)."""
