@@ -9,6 +9,7 @@ returns a frozen result; the ``*_`` attributes are read from those results.
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
@@ -149,6 +150,7 @@ class GapFinder:
                 "explanation": self.explanation_, "groups": self.groups_,
                 "episodes": self.problem_.split.roles(self.episodes_),
                 "dropped": list(self.checked_.dropped),
+                "outliers": [asdict(o) for e in self.episodes_ for o in e.outliers],  # kept when loaded with "flag"
                 "null": {"z_threshold": self.z_threshold_, "z_max": self.z_strong_, "alpha": self.config.null_alpha,
                          "rounds": [r.to_dict() for r in self.search_.null]},
                 "rounds": [r.to_dict() for r in self.rounds_],
