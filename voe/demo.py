@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -43,8 +42,9 @@ def _train_job(job: tuple[str, str, str, float, int, dict[str, Any]]) -> dict[st
 
 def run_demo(out: Path, work: Path, cfg: DemoConfig, say: Callable[[str], None] = print) -> dict[str, Any]:
     """Run the whole pipeline; returns timings (seconds) per stage."""
-    from voe.cli.common import progress
     from voe.concepts.generate import generate_probe_set, resolve_concepts
+    from voe.parallel import parallel_map
+    from voe.progress import progress
     from voe.sim.scene import SimConfig
     from voe.world.generate import generate_world
 
@@ -83,9 +83,8 @@ def run_demo(out: Path, work: Path, cfg: DemoConfig, say: Callable[[str], None] 
     if jobs:
         total = sum(j[3] for j in jobs) / max(cfg.jobs, 1)
         say(f"training {len(jobs)} model(s), {cfg.jobs} at a time (about {total:.0f} min)")
-        with ProcessPoolExecutor(max_workers=cfg.jobs) as pool:
-            for job, meta in zip(jobs, pool.map(_train_job, jobs), strict=True):
-                say(f"  {Path(job[2]).name}: {meta['steps']} steps, validation NLL {meta['val_nll']:.2f} nats/frame")
+        for job, meta in zip(jobs, parallel_map(_train_job, jobs, cfg.jobs, ahead=len(jobs)), strict=True):
+            say(f"  {Path(job[2]).name}: {meta['steps']} steps, validation NLL {meta['val_nll']:.2f} nats/frame")
     times["training"] = time.monotonic() - t1
 
     # 3. scoring: references (calibrated on the calibration world), learned, untrained

@@ -18,7 +18,7 @@ def test_help_does_not_import_torch():
 def test_list_shows_versioned_ids():
     res = runner.invoke(app, ["probes", "list"])
     assert res.exit_code == 0
-    assert "Permanence-v1" in res.output and "suite core" in res.output
+    assert "Permanence-v2" in res.output and "suite core" in res.output
 
 
 def test_generate_validate_show(tmp_path):
@@ -38,7 +38,7 @@ def test_errors_are_one_line_with_nonzero_exit(tmp_path):
     out = subprocess.run([sys.executable, "-m", "voe", "probes", "generate", "--concept", "permanense",
                           "--out", str(tmp_path / "x")], capture_output=True, text=True)
     assert out.returncode == 1
-    assert out.stderr.strip().count("\n") == 0 and "did you mean 'Permanence-v1'" in out.stderr
+    assert out.stderr.strip().count("\n") == 0 and "did you mean 'Permanence-v2'" in out.stderr
     out = subprocess.run([sys.executable, "-m", "voe", "probes", "validate", str(tmp_path / "none")],
                          capture_output=True, text=True)
     assert out.returncode == 1 and "does not exist" in out.stderr

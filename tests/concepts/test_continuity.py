@@ -1,4 +1,4 @@
-"""Continuity-v1: the object is never seen crossing the gap in AB, and the splice is balanced."""
+"""Continuity-v2: the object is never seen crossing the gap in AB, and the splice is balanced."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ from voe.sim.scene import SimConfig
 
 @pytest.fixture(scope="module")
 def sets():
-    c = get_concept("Continuity-v1")
+    c = get_concept("Continuity-v2")
     return [c.make_set(i, 0, SimConfig()) for i in range(4)]  # visible, occluded, visible, occluded
 
 

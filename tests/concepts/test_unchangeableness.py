@@ -1,4 +1,4 @@
-"""Unchangeableness-v2: the object's shape and/or size changes at the onset, its path does not."""
+"""Unchangeableness-v3: the object's shape and/or size changes at the onset, its path does not."""
 
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ W, H, CIRCLE = (FEATURE_NAMES.index(f) for f in ("width", "height", "is_circle")
 
 @pytest.fixture(scope="module")
 def sets():
-    c = get_concept("Unchangeableness-v2")
+    c = get_concept("Unchangeableness-v3")
     return [c.make_set(i, 0, SimConfig()) for i in range(6)]  # even: visible, odd: occluded
 
 

@@ -14,12 +14,12 @@ CFG = SimConfig(size=32)
 
 
 def test_same_seed_gives_byte_identical_sets_whatever_jobs(tmp_path):
-    m1 = generate_probe_set(tmp_path / "a", ["Permanence-v1"], 3, 7, CFG, jobs=1)
-    m2 = generate_probe_set(tmp_path / "b", ["Permanence-v1"], 3, 7, CFG, jobs=2)
+    m1 = generate_probe_set(tmp_path / "a", ["Permanence-v2"], 3, 7, CFG, jobs=1)
+    m2 = generate_probe_set(tmp_path / "b", ["Permanence-v2"], 3, 7, CFG, jobs=2)
     assert m1["files"] == m2["files"]
     assert (tmp_path / "a/manifest.json").read_bytes() == (tmp_path / "b/manifest.json").read_bytes()
-    m3 = generate_probe_set(tmp_path / "c", ["Permanence-v1"], 3, 8, CFG)
-    assert m3["files"]["frames.npy"] != m1["files"]["frames.npy"]
+    m3 = generate_probe_set(tmp_path / "c", ["Permanence-v2"], 3, 8, CFG)
+    assert m3["files"]["shards/00000/frames.npy"] != m1["files"]["shards/00000/frames.npy"]
 
 
 def test_load_round_trip_and_api(tiny_probes):
@@ -45,9 +45,9 @@ def test_validate_passes_then_catches_corruption(tiny_probes, tmp_path):
     assert validate_probe_set(load_probe_set(tiny_probes)).ok
     bad = tmp_path / "bad"
     shutil.copytree(tiny_probes, bad)
-    arr = np.load(bad / "frames.npy")
+    arr = np.load(bad / "shards/00000/frames.npy")
     arr[2, 5, 0, 0] ^= 1
-    np.save(bad / "frames.npy", arr)
+    np.save(bad / "shards/00000/frames.npy", arr)
     rep = validate_probe_set(load_probe_set(bad))
     assert any("sha256" in p for p in rep.problems)
     assert any("frame multisets differ" in p or "frames differ" in p for p in rep.problems)
@@ -66,9 +66,9 @@ def test_bad_directories_give_clear_errors(tmp_path):
 
 def test_refuses_to_overwrite_and_leaves_no_partial_output(tmp_path):
     out = tmp_path / "set"
-    generate_probe_set(out, ["Permanence-v1"], 1, 0, CFG)
+    generate_probe_set(out, ["Permanence-v2"], 1, 0, CFG)
     before = (out / "manifest.json").read_bytes()
     with pytest.raises(VoeError, match="already exists"):
-        generate_probe_set(out, ["Permanence-v1"], 1, 1, CFG)
+        generate_probe_set(out, ["Permanence-v2"], 1, 1, CFG)
     assert (out / "manifest.json").read_bytes() == before
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".")]

@@ -59,7 +59,7 @@ def test_user_model_by_reference(tiny_batch):
 
 
 @pytest.mark.parametrize("cls, what", [("WrongShape", "shape"), ("NaNInside", "NaN at clip 0, frame 5"),
-                                       ("BatchDependent", "batch-size invariant")])
+                                       ("BatchDependent", "failed the batch size check")])
 def test_broken_user_models_are_named(cls, what, tiny_batch):
     model = getattr(user_model, cls)()
     with pytest.raises(ModelContractError, match=what) as err:

@@ -122,8 +122,8 @@ def test_report_from_generated_permanence_probes(tmp_path):
     from voe.sim.scene import SimConfig
 
     probes = tmp_path / "probes"
-    generate_probe_set(probes, ["Permanence-v1"], 4, 0, SimConfig(size=32))
-    for model in (CheatingModel(), BlindModel()):
+    generate_probe_set(probes, ["Permanence-v2"], 4, 0, SimConfig(size=32))
+    for model in (CheatingModel(probes), BlindModel()):
         score_probe_set(model, probes, tmp_path / model.name)
     s = build_report([tmp_path / "cheating", tmp_path / "blind"], tmp_path / "rep", n_boot=500)
     s = s.set_index("model")

@@ -24,7 +24,7 @@ def fake_runs(synth_probes, tmp_path_factory) -> dict[str, Path]:
     """Run directories of the cheating, blind, random and pixel-sum models, by model name."""
     root = tmp_path_factory.mktemp("runs")
     out = {}
-    for model in (CheatingModel(), BlindModel(), RandomModel(), PixelSumModel()):
+    for model in (CheatingModel(synth_probes), BlindModel(), RandomModel(), PixelSumModel()):
         out[model.name] = root / model.name
         score_probe_set(model, synth_probes, out[model.name], batch_size=5)
     return out

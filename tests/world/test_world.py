@@ -15,13 +15,18 @@ from voe.world.generate import generate_world
 CFG = SimConfig(n_frames=30, size=32)
 
 
-def test_same_seed_is_byte_identical_whatever_jobs(tmp_path):
+def test_same_seed_is_byte_identical_whatever_jobs(tmp_path, monkeypatch):
+    monkeypatch.setattr("voe.io.shards.MAX_SHARD_CLIPS", 2)  # several shards from 6 clips
     generate_world(tmp_path / "a", 6, 3, CFG, jobs=1)
     generate_world(tmp_path / "b", 6, 3, CFG, jobs=2)
-    for f in ("manifest.json", "index.parquet", "frames.npy", "states.npy", "present.npy", "exists.npy"):
+    files = sorted(p.relative_to(tmp_path / "a") for p in (tmp_path / "a").rglob("*") if p.is_file())
+    assert [p.relative_to(tmp_path / "b") for p in sorted((tmp_path / "b").rglob("*")) if p.is_file()] == files
+    assert len(files) == 2 + 4 * 3  # manifest, index and 3 shards of 4 arrays
+    for f in files:
         assert (tmp_path / "a" / f).read_bytes() == (tmp_path / "b" / f).read_bytes(), f
     generate_world(tmp_path / "c", 6, 4, CFG)
-    assert (tmp_path / "a" / "states.npy").read_bytes() != (tmp_path / "c" / "states.npy").read_bytes()
+    st = "shards/00000/states.npy"
+    assert (tmp_path / "a" / st).read_bytes() != (tmp_path / "c" / st).read_bytes()
 
 
 def test_stored_as_training_set(tmp_path):

@@ -1,20 +1,11 @@
-"""Small helpers shared by CLI groups: progress bars and option parsing."""
+"""Small helpers shared by CLI groups: option parsing (and the progress bar, re-exported)."""
 
 from __future__ import annotations
 
-import contextlib
-from collections.abc import Iterator
-
 from voe.errors import VoeError
+from voe.progress import progress
 
-
-@contextlib.contextmanager
-def progress(total: int, desc: str, unit: str = "it") -> Iterator:
-    """A tqdm progress bar on stderr; yields its ``update`` function."""
-    from tqdm import tqdm
-
-    with tqdm(total=total, desc=desc, unit=unit, dynamic_ncols=True, leave=True) as bar:
-        yield bar.update
+__all__ = ["parse_kv", "progress"]
 
 
 def parse_kv(items: list[str] | None) -> dict[str, object]:

@@ -28,7 +28,8 @@ def check(
     data: Path = typer.Option(None, "--data", help="Probe or training set to check on (default: 6 fresh training clips)."),
     n: int = typer.Option(6, "--n", min=2, help="Clips to check on."),
 ) -> None:
-    """Check the frame_nll contract: shape, finiteness, batch-size invariance, determinism."""
+    """Check the frame_nll contract: shape and values, determinism, invariance to clip order, to
+    clip keys and to batch size, and causality. A failure is one line naming the check (exit 2)."""
     from voe.cli.common import parse_kv
     from voe.models.check import check_model
     from voe.models.loading import load_model
@@ -52,5 +53,8 @@ def _check_batch(data: Path | None, n: int):
         tmp = Path(tempfile.mkdtemp(prefix="voe-check-")) / "world"
         generate_world(tmp, n, 12345, SimConfig())
         data = tmp
+    from voe.scoring.order import Blinder, plan
+
     ps = load_probe_set(data)
-    return ps.batch(list(ps.index.clip_id[:n]))
+    blinder = Blinder(ps)
+    return blinder.batch(blinder.sample(plan(ps.index, n), n))  # what the harness shows: opaque keys, shuffled

@@ -50,17 +50,24 @@ def generate(
 
 
 @app.command()
-def validate(path: Path = typer.Argument(..., help="Probe-set directory.")) -> None:
-    """Check checksums, schema and frame balance; exit 1 on any problem."""
+def validate(
+    path: Path = typer.Argument(..., help="Probe-set directory."),
+    out: Path = typer.Option(None, "--out", help="Where to record the per-set balance "
+                             "(default: PATH/balance.parquet)."),
+) -> None:
+    """Check checksums, schema and the balance each matched set reaches (F, M, T_k, P, V, H, D);
+    record it; exit 1 on any problem, e.g. a set that reaches less than its concept claims."""
     from voe.io.probeset import load_probe_set
-    from voe.io.validate import validate_probe_set
+    from voe.io.validate import validate_probe_set, write_balance
 
     rep = validate_probe_set(load_probe_set(path))
     if rep.table is not None:
         typer.echo(rep.table.to_string(index=False))
+    if rep.sets is not None:
+        typer.echo(f"balance per set: {write_balance(rep, out or path / 'balance.parquet')}")
     if not rep.ok:
         for p in rep.problems[:20]:
-            typer.echo(f"problem: {p}", err=True)
+            typer.echo(f"problem: {p}")
         raise ProbeSetError(f"{path}: {len(rep.problems)} problem(s), first: {rep.problems[0]}")
     typer.echo(f"{path}: valid ({len(rep.table) if rep.table is not None else 0} concepts)")
 

@@ -6,9 +6,9 @@ from voe.registry import Registry
 
 CONCEPTS: Registry = Registry("concept")
 
-CONCEPTS.register("Permanence-v1", "voe.concepts.permanence:Permanence")
-CONCEPTS.register("Continuity-v1", "voe.concepts.continuity:Continuity")
-CONCEPTS.register("Unchangeableness-v2", "voe.concepts.unchangeableness:Unchangeableness")
+CONCEPTS.register("Permanence-v2", "voe.concepts.permanence:Permanence")
+CONCEPTS.register("Continuity-v2", "voe.concepts.continuity:Continuity")
+CONCEPTS.register("Unchangeableness-v3", "voe.concepts.unchangeableness:Unchangeableness")
 CONCEPTS.register("Solidity-v1", "voe.concepts.solidity:Solidity")
 CONCEPTS.register("Inertia-v1", "voe.concepts.inertia:Inertia")
 CONCEPTS.register("Gravity-v2", "voe.concepts.gravity:Gravity")

@@ -61,6 +61,10 @@ class MatchedSet:
     n_distractors: int
     params: dict[str, Any]
     clips: list[Clip] = field(default_factory=list)
+    condition: str = ""  # "visible", "occluded" or "perceptual" (see ``Concept.conditions``)
+    carries_verdict: bool = True  # False for a perceptual condition
+    balance_claim: str = ""  # what the concept claims this condition reaches (``voe.io.balance``)
+    confounded: bool = False  # the concept has no balanced design (``Concept.confounded``)
 
 
 @dataclass(frozen=True)
@@ -107,10 +111,24 @@ class Concept(ABC):
     version: ClassVar[int] = 1
     kind: ClassVar[Literal["quadruplet", "pair"]] = "quadruplet"
     n_main: ClassVar[int] = 1  # slots used by the main event
+    #: Condition names of visible and of occluded sets. A condition named "perceptual" (a violation
+    #: in plain view that a change detector also sees) is kept and labelled, but does not carry the
+    #: concept's verdict.
+    conditions: ClassVar[tuple[str, str]] = ("visible", "occluded")
+    #: Balance each condition reaches by design (``voe.io.balance``: "F+M+T2+P+V+H+D"), checked by
+    #: ``check_concept`` and, on the stored bytes, by ``voe probes validate``.
+    balance: ClassVar[dict[str, str]] = {}
+    #: True when no design balances the conditions that carry the verdict: reports mark every verdict
+    #: on this concept confounded (the README says why).
+    confounded: ClassVar[bool] = False
 
     @property
     def id(self) -> str:
         return f"{self.name.capitalize()}-v{self.version}"
+
+    def condition(self, visible: bool) -> str:
+        """The condition name of a visible or occluded set."""
+        return self.conditions[0] if visible else self.conditions[1]
 
     @cached_property
     def spec(self) -> dict[str, Any]:
@@ -145,7 +163,10 @@ class Concept(ABC):
         distractors = self._distractors(rng, n_distractors, slots[self.n_main:])
         ctx = Context(cfg, visible, n_distractors, slots, distractors, self._lane(n_distractors))
         params = self._sample(rng, ctx)
-        mset = MatchedSet(self.id, set_index, set_seed, self.kind, visible, n_distractors, params)
+        cond = self.condition(visible)
+        mset = MatchedSet(self.id, set_index, set_seed, self.kind, visible, n_distractors, params,
+                          condition=cond, carries_verdict=cond != "perceptual",
+                          balance_claim=self.balance.get(cond, ""), confounded=self.confounded)
         if self.kind == "quadruplet":
             a, b, mask = self._possible_pair(params, ctx)
             mask = np.asarray(mask, dtype=bool)

@@ -8,7 +8,8 @@ concept (ours or a user's) is held to the same standard:
 * schema: shapes, dtypes, NaN exactly where an object is not present;
 * conditions: visibility and distractor counts as the base class assigns them;
 * onset: inside the clip; the impossible clips follow a possible clip up to it and differ after;
-* frame balance: spliced quadruplets hold the same frame multiset; pairs share the prefix;
+* balance: every set reaches what its concept claims for its condition (``Concept.balance``,
+  measured like ``voe probes validate``); pairs that claim no frame balance share the prefix;
 * physical plausibility of possible clips: objects exist throughout (nothing appears or vanishes)
   and move continuously (no jump larger than their speed allows).
 """
@@ -19,7 +20,7 @@ import numpy as np
 
 from voe.concepts.base import Concept, MatchedSet
 from voe.errors import ConceptError
-from voe.io.balance import pair_problem, quadruplet_problem
+from voe.io.balance import ClipData, set_problems
 from voe.sim.scene import FEATURE_NAMES, SimConfig
 
 _X, _Y, _VX, _VY = (FEATURE_NAMES.index(n) for n in ("x", "y", "vx", "vy"))
@@ -47,18 +48,33 @@ def _check_schema(c: Concept, i: int, m: MatchedSet, cfg: SimConfig) -> None:
             _fail(c, i, f"{clip.variant}: onset {clip.onset} outside [1, {T - 1})")
 
 
-def _check_balance(c: Concept, i: int, m: MatchedSet) -> None:
-    pos = [cl.rec.frames for cl in m.clips if cl.role == "possible"]
-    imp = [cl.rec.frames for cl in m.clips if cl.role == "impossible"]
-    onset = m.clips[0].onset
-    if m.kind == "quadruplet":
-        why = quadruplet_problem(pos, imp) if len(pos) == 2 == len(imp) else "not 2+2 clips"
-        if why is None and not np.array_equal(imp[0][:onset], pos[0][:onset]):
-            why = "AB does not follow A before the onset"
-    else:
-        why = pair_problem(pos[0], imp[0], onset) if len(pos) == 1 == len(imp) else "not 1+1 clips"
+def _check_balance(c: Concept, i: int, m: MatchedSet, cfg: SimConfig) -> None:
+    """The set reaches the balance its concept claims for its condition (as validate measures it)."""
+    clips = {role: [ClipData(cl.rec.frames, cl.rec.states, cl.rec.present) for cl in m.clips if cl.role == role]
+             for role in ("possible", "impossible")}
+    _, why = set_problems(m.kind, m.balance_claim, clips["possible"], clips["impossible"],
+                          m.clips[0].onset, FEATURE_NAMES)
     if why:
-        _fail(c, i, why)
+        _fail(c, i, f"{m.condition}: {why[0]}")
+    if m.kind == "quadruplet" and not np.array_equal(m.clips[2].rec.frames[:m.clips[0].onset],
+                                                    m.clips[0].rec.frames[:m.clips[0].onset]):
+        _fail(c, i, "AB does not follow A before the onset")
+
+
+def _check_declarations(c: Concept) -> None:
+    """Conditions are named, their claims parse, and only a perceptual condition drops the verdict."""
+    from voe.io.balance import parse_claim
+
+    if len(c.conditions) != 2 or len(set(c.conditions)) != 2:
+        raise ConceptError(f"check_concept({c.id}): conditions {c.conditions!r} must name the visible and "
+                           "the occluded condition")
+    for cond, claim in c.balance.items():
+        if cond not in c.conditions:
+            raise ConceptError(f"check_concept({c.id}): balance declared for unknown condition {cond!r}")
+        try:
+            parse_claim(claim)
+        except ValueError as exc:
+            raise ConceptError(f"check_concept({c.id}): {exc}") from exc
 
 
 def _check_plausible(c: Concept, i: int, m: MatchedSet, cfg: SimConfig) -> None:
@@ -82,6 +98,7 @@ def _check_plausible(c: Concept, i: int, m: MatchedSet, cfg: SimConfig) -> None:
 def check_concept(concept: Concept, n_sets: int = 6, seed: int = 0, cfg: SimConfig | None = None) -> None:
     """Run every conformance check on ``n_sets`` matched sets; raises ``ConceptError`` on failure."""
     cfg = cfg or SimConfig()
+    _check_declarations(concept)
     for i in range(n_sets):
         m = concept.make_set(i, seed, cfg)
         again = concept.make_set(i, seed, cfg)
@@ -92,5 +109,5 @@ def check_concept(concept: Concept, n_sets: int = 6, seed: int = 0, cfg: SimConf
         if m.visible != (i % 2 == 0) or m.n_distractors != (i // 2) % 3:
             _fail(concept, i, "conditions are not the ones the base class assigned")
         _check_schema(concept, i, m, cfg)
-        _check_balance(concept, i, m)
+        _check_balance(concept, i, m, cfg)
         _check_plausible(concept, i, m, cfg)

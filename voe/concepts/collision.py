@@ -37,6 +37,7 @@ class Collision(Concept):
     name = "collision"
     version = 2
     kind = "pair"
+    confounded = True  # a branch pair: impossible frames are new (see probes/README)
     n_main = 2
 
     def _sample(self, rng: np.random.Generator, ctx: Context) -> dict[str, Any]:

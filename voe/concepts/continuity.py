@@ -16,14 +16,16 @@ from typing import Any
 import numpy as np
 
 from voe.concepts.base import Concept, Context
-from voe.concepts.parts import floor, hidden_frames, on_floor, pick, screen
+from voe.concepts.parts import floor, hidden_frames, on_floor, pick, screen, splice_frames
 from voe.sim.rollout import Recording, simulate
 
 
 class Continuity(Concept):
     name = "continuity"
-    version = 1
+    version = 2
     kind = "quadruplet"
+    conditions = ("perceptual", "occluded")
+    balance = {"occluded": "F+M+T2+P+V+H+D", "perceptual": "F+P+V+H"}
 
     def _sample(self, rng: np.random.Generator, ctx: Context) -> dict[str, Any]:
         r = self.ranges
@@ -63,8 +65,8 @@ class Continuity(Concept):
             hid = hidden_frames(a, slot)  # pixel-accurate: no anti-aliased pixel shows
             x = p["x0"] + p["direction"] * p["speed"] * hid * ctx.cfg.dt  # true x while hidden
             behind = [hid[np.abs(x - sx) <= p["screen_width"] / 2] for sx in p["screen_x"]]
-            t1 = pick(behind[0], p["u_t1"], 1, T - 1, "hidden behind screen 1")
-            t2 = pick(behind[1], p["u_t2"], t1 + 1, T, "hidden behind screen 2")
+            t1 = pick(splice_frames(behind[0]), p["u_t1"], 1, T - 1, "hidden behind screen 1")
+            t2 = pick(splice_frames(behind[1]), p["u_t2"], t1 + 1, T, "hidden behind screen 2")
         t = np.arange(T)
         return a, b, (t >= t1) & (t < t2)
 

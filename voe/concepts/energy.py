@@ -40,6 +40,7 @@ class Energy(Concept):
     name = "energy"
     version = 2
     kind = "pair"
+    confounded = True  # a branch pair: impossible frames are new (see probes/README)
 
     def _sample(self, rng: np.random.Generator, ctx: Context) -> dict[str, Any]:
         r = self.ranges

@@ -7,8 +7,7 @@ Why: generation is embarrassingly parallel over (concept, set index), and each s
 from __future__ import annotations
 
 import json
-import multiprocessing as mp
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import asdict
 from pathlib import Path
 from typing import Any
@@ -19,6 +18,7 @@ from voe.concepts.base import MatchedSet
 from voe.errors import ConceptError
 from voe.io.probeset import ClipRecord, write_probe_set
 from voe.io.provenance import package_versions
+from voe.parallel import parallel_map
 from voe.sim.scene import FEATURE_NAMES, SimConfig
 
 
@@ -47,6 +47,8 @@ def set_records(mset: MatchedSet) -> list[ClipRecord]:
             "set_id": set_id, "set_kind": mset.kind, "variant": clip.variant, "role": clip.role,
             "onset_frame": int(clip.onset), "seed": int(mset.seed),
             "visible_violation": bool(mset.visible), "n_distractors": int(mset.n_distractors),
+            "condition": mset.condition, "carries_verdict": bool(mset.carries_verdict),
+            "balance_claim": mset.balance_claim, "confounded": bool(mset.confounded),
             "params": json.dumps(mset.params, sort_keys=True),
             "geometry": json.dumps(clip.rec.geometry, sort_keys=True),
         }
@@ -65,23 +67,11 @@ def _make(job: tuple[str, int, int, SimConfig]) -> list[ClipRecord]:
 
 
 def generate_records(concept_ids: Sequence[str], per_concept: int, seed: int, cfg: SimConfig,
-                     jobs: int = 1, progress: Callable[[int], None] | None = None) -> list[ClipRecord]:
-    """All clip records, ordered by concept then set index."""
+                     jobs: int = 1, progress: Callable[[int], None] | None = None) -> Iterator[ClipRecord]:
+    """All clip records, ordered by concept then set index, as they are made (a lazy iterator)."""
     work = [(cid, i, seed, cfg) for cid in concept_ids for i in range(per_concept)]
-    records: list[ClipRecord] = []
-    if jobs <= 1:
-        results = map(_make, work)
-        for recs in results:
-            records += recs
-            if progress:
-                progress(1)
-        return records
-    with mp.get_context("fork").Pool(jobs) as pool:
-        for recs in pool.imap(_make, work, chunksize=2):
-            records += recs
-            if progress:
-                progress(1)
-    return records
+    for recs in parallel_map(_make, work, jobs, progress):
+        yield from recs
 
 
 def manifest_meta(kind: str, concept_ids: Sequence[str], seed: int, cfg: SimConfig,

@@ -28,6 +28,10 @@ class Inertia(Concept):
     name = "inertia"
     version = 1
     kind = "quadruplet"
+    # in view the object is at nearly the same place in A and B just before the onset, but not to
+    # the pixel (two simulations), so the per-step change is not exactly balanced: perceptual
+    conditions = ("perceptual", "occluded")
+    balance = {"occluded": "F+M+T2+P+V+H+D", "perceptual": "F+P+V+H"}
 
     def _sample(self, rng: np.random.Generator, ctx: Context) -> dict[str, Any]:
         r = self.ranges

@@ -70,3 +70,18 @@ def pick(frames: np.ndarray, u: float, lo: int, hi: int, what: str) -> int:
     if cand.size == 0:
         raise ValueError(f"no candidate frame for {what} in [{lo}, {hi})")
     return int(cand[min(int(u * cand.size), cand.size - 1)])
+
+
+#: Frames of context a hidden splice keeps identical on each side (``T_k`` balance, VALIDITY.md).
+SPLICE_K = 2
+
+
+def splice_frames(hidden: np.ndarray, k: int = SPLICE_K) -> np.ndarray:
+    """Frames ``s`` of ``hidden`` (sorted frame numbers) with ``s - k .. s + k - 1`` all in it.
+
+    Why: a splice at ``s`` of two clips that are pixel-identical on those ``2k`` frames reaches
+    ``T_k`` balance: every window of up to ``k + 1`` frames that straddles the splice also occurs in
+    one of the two possible clips, so the amount of motion (``M``) is balanced too.
+    """
+    have = set(int(t) for t in hidden)
+    return np.array([s for s in sorted(have) if all(t in have for t in range(s - k, s + k))], dtype=int)

@@ -14,14 +14,16 @@ from typing import Any
 import numpy as np
 
 from voe.concepts.base import Concept, Context
-from voe.concepts.parts import floor, hidden_frames, on_floor, pick, screen, visible_frames
+from voe.concepts.parts import floor, hidden_frames, on_floor, pick, screen, splice_frames, visible_frames
 from voe.sim.rollout import Recording, simulate
 
 
 class Permanence(Concept):
     name = "permanence"
-    version = 1
+    version = 2
     kind = "quadruplet"
+    conditions = ("perceptual", "occluded")
+    balance = {"occluded": "F+M+T2+P+V+H+D", "perceptual": "F+P+V+H"}
 
     def _sample(self, rng: np.random.Generator, ctx: Context) -> dict[str, Any]:
         r = self.ranges
@@ -54,6 +56,6 @@ class Permanence(Concept):
             seen = visible_frames(a, slot)
             if hid.size == 0 or (seen > hid[-1]).sum() < 3:
                 raise ValueError("the object does not come out of the screen for 3 frames")
-            onset = pick(hid, p["u_onset"], 2, T - 2, "occluded vanishing")
+            onset = pick(splice_frames(hid), p["u_onset"], 2, T - 2, "occluded vanishing")
         mask = np.arange(T) >= onset
         return a, b, mask

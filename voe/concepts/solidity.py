@@ -34,6 +34,7 @@ class Solidity(Concept):
     name = "solidity"
     version = 1
     kind = "pair"
+    confounded = True  # a branch pair: impossible frames are new (see probes/README)
 
     def _sample(self, rng: np.random.Generator, ctx: Context) -> dict[str, Any]:
         r = self.ranges

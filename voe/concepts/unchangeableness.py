@@ -15,7 +15,7 @@ from typing import Any
 import numpy as np
 
 from voe.concepts.base import Concept, Context
-from voe.concepts.parts import floor, hidden_frames, on_floor, pick, screen
+from voe.concepts.parts import floor, hidden_frames, on_floor, pick, screen, splice_frames
 from voe.sim.rollout import Recording, simulate
 
 CHANGES = ("shape", "size", "both")
@@ -24,8 +24,10 @@ OTHER_SHAPE = {"circle": "box", "box": "circle"}
 
 class Unchangeableness(Concept):
     name = "unchangeableness"
-    version = 2
+    version = 3
     kind = "quadruplet"
+    conditions = ("perceptual", "occluded")
+    balance = {"occluded": "F+M+T2+P+V+H+D", "perceptual": "F+P+V+H"}
 
     def _sample(self, rng: np.random.Generator, ctx: Context) -> dict[str, Any]:
         r = self.ranges
@@ -73,7 +75,7 @@ class Unchangeableness(Concept):
         else:
             # both hidden (``present`` is pixel-accurate: no anti-aliased pixel shows)
             hidden = np.intersect1d(hidden_frames(a, slot), hidden_frames(b, slot))
-            onset = pick(hidden, p["u_onset"], 2, T - 2, "morph behind the screen")
+            onset = pick(splice_frames(hidden), p["u_onset"], 2, T - 2, "morph behind the screen")
         return a, b, np.arange(T) >= onset
 
 

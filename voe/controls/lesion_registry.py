@@ -35,11 +35,13 @@ def keeps(concepts: tuple[str, ...], why: str) -> Declarations:
 
 
 def occluded_only(concepts: tuple[str, ...], why: str) -> Declarations:
-    """Fail on the occluded half, pass on the visible half, no claim on the whole concept."""
+    """Fail on the occluded condition, pass on the in-view ones (``visible``, ``perceptual``), no
+    claim on the whole concept (whose verdict sets may or may not include an in-view condition)."""
     out: Declarations = {}
+    seen = "in plain view nothing needs remembering"
     for c in concepts:
         out.update({c: ("none", f"claims per condition only: {why}"), f"{c}/occluded": ("fail", why),
-                    f"{c}/visible": ("pass", "in plain view nothing needs remembering")})
+                    f"{c}/visible": ("pass", seen), f"{c}/perceptual": ("pass", seen)})
     return out
 
 

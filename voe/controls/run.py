@@ -126,8 +126,9 @@ def run_controls(controls: Sequence[Control], probes: Path, setup: ControlSetup,
     """
     import json
 
-    from voe.cli.common import progress
     from voe.io.probeset import load_probe_set
+    from voe.parallel import parallel_map
+    from voe.progress import progress
 
     ps = load_probe_set(probes)
     names = [c.name for c in controls]
@@ -143,13 +144,9 @@ def run_controls(controls: Sequence[Control], probes: Path, setup: ControlSetup,
                 continue
         todo.append((ctrl, Path(probes), setup, out))
     if jobs > 1 and len(todo) > 1:
-        from concurrent.futures import ProcessPoolExecutor, as_completed
-
-        with progress(len(todo), f"controls ({jobs} at a time)", "control") as tick, \
-                ProcessPoolExecutor(jobs) as pool:
-            for fut in as_completed([pool.submit(_score_control, job) for job in todo]):
-                say(f"scored {fut.result()}")
-                tick(1)
+        with progress(len(todo), f"controls ({jobs} at a time)", "control") as tick:
+            for name in parallel_map(_score_control, todo, jobs, tick, ahead=len(todo)):
+                say(f"scored {name}")
         return runs
     for ctrl, _, _, out in todo:
         with progress(len(ps), f"scoring {ctrl.name}", "clip") as tick:

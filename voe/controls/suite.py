@@ -28,8 +28,8 @@ def ensure_probes(probes: Path | None, work: Path, per_concept: int | None, seed
         return Path(probes)
     out = work / "probes"
     if not (out / "manifest.json").exists():
-        from voe.cli.common import progress
         from voe.concepts.generate import generate_probe_set, resolve_concepts
+        from voe.progress import progress
         from voe.sim.scene import SimConfig
 
         ids = resolve_concepts("core")
@@ -46,7 +46,7 @@ def ensure_world(world: Path | None, work: Path, n: int, seed: int, size: int) -
         return Path(world)
     out = work / "world"
     if not (out / "manifest.json").exists():
-        from voe.cli.common import progress
+        from voe.progress import progress
         from voe.sim.scene import SimConfig
         from voe.world.generate import generate_world
 

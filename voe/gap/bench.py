@@ -17,6 +17,7 @@ from voe.gap.effects import EFFECTS
 from voe.gap.finder import GapConfig, GapFinder
 from voe.gap.recordings import Episode
 from voe.gap.synth import simulate_episode
+from voe.parallel import parallel_map
 from voe.sim.scenefile import BodySpec, SceneSpec, StaticSpec
 
 TRUTHS = ("none", "linear_drag", "quadratic_drag", "rolling_resistance", "constant_acceleration",
@@ -187,19 +188,10 @@ def run_bench(cases: int = 22, noise: float = 1e-3, seed: int = 0, jobs: int = 1
     cases (see ``plan``); each case has ``episodes`` recordings of ``duration`` seconds."""
     todo = [(s, t, noise, max_effects, episodes, duration) for s, t in plan(cases, seed, clean, truths)]
     results: list[dict] = []
-    if jobs > 1:
-        from concurrent.futures import ProcessPoolExecutor
-
-        with ProcessPoolExecutor(jobs) as pool:
-            for r in pool.map(run_case, todo):
-                results.append({**r, "extra": len(results) >= cases})
-                if progress:
-                    progress(results[-1])
-    else:
-        for a in todo:
-            results.append({**run_case(a), "extra": len(results) >= cases})
-            if progress:
-                progress(results[-1])
+    for r in parallel_map(run_case, todo, jobs):
+        results.append({**r, "extra": len(results) >= cases})
+        if progress:
+            progress(results[-1])
     return results
 
 

@@ -7,13 +7,14 @@ the problem and the file.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
 from voe.errors import DataError
+from voe.gap.outliers import Outlier, find_outliers, non_finite_or_huge
 from voe.sim.scenefile import SceneSpec
 
 COLUMNS = ("episode", "t", "body", "x", "y", "angle")
@@ -22,11 +23,15 @@ MIN_SAMPLES = 20
 
 @dataclass(frozen=True)
 class Episode:
-    """One recorded episode. ``pose`` is (T, B, 3) in scene body order; ``t`` is (T,)."""
+    """One recorded episode. ``pose`` is (T, B, 3) in scene body order; ``t`` is (T,).
+
+    ``outliers`` lists the isolated spikes kept when loading with ``outliers="flag"``.
+    """
 
     id: int
     t: np.ndarray
     pose: np.ndarray
+    outliers: tuple[Outlier, ...] = field(default=())
 
 
 def read_table(path: str | Path) -> pd.DataFrame:
@@ -42,18 +47,24 @@ def read_table(path: str | Path) -> pd.DataFrame:
         raise DataError(f"cannot read recordings {path}: {exc}") from exc
 
 
-def load_recordings(path: str | Path, scene: SceneSpec, table: pd.DataFrame | None = None) -> list[Episode]:
+def load_recordings(path: str | Path, scene: SceneSpec, table: pd.DataFrame | None = None,
+                    outliers: str = "refuse") -> list[Episode]:
     """Validate recordings against ``scene`` and split them into episodes.
 
     Args:
         path: the file (also used in error messages).
         scene: bodies must match the scene's names.
         table: an already loaded table (for in-memory use); read from ``path`` otherwise.
+        outliers: ``"refuse"`` an isolated spike (see ``voe.gap.outliers``), or ``"flag"`` it:
+            keep the sample and list it in its episode's ``outliers``.
 
     Raises:
-        DataError: unknown body, missing column, NaN, non-increasing time, an episode shorter
-            than ``MIN_SAMPLES`` samples, or a scene body without recordings.
+        DataError: unknown body, missing column, NaN, infinite or impossibly large values, an
+            isolated spike (unless flagged), non-increasing time, an episode shorter than
+            ``MIN_SAMPLES`` samples, or a scene body without recordings.
     """
+    if outliers not in ("refuse", "flag"):
+        raise DataError(f"outliers must be 'refuse' or 'flag', got {outliers!r}")
     df = read_table(path) if table is None else table
     missing = [c for c in COLUMNS if c not in df.columns]
     if missing:
@@ -63,6 +74,9 @@ def load_recordings(path: str | Path, scene: SceneSpec, table: pd.DataFrame | No
         if vals.isna().any():
             row = int(np.flatnonzero(vals.isna().to_numpy())[0])
             raise DataError(f"recordings {path} have NaN or non-numeric '{col}' at data row {row + 1}")
+    bad = non_finite_or_huge(df, ("episode", "t", "x", "y", "angle"))
+    if bad:
+        raise DataError(f"recordings {path} have {bad}")
     if df["body"].isna().any():
         raise DataError(f"recordings {path} have an empty 'body' at data row {int(np.flatnonzero(df['body'].isna())[0]) + 1}")
     names = scene.names
@@ -72,9 +86,16 @@ def load_recordings(path: str | Path, scene: SceneSpec, table: pd.DataFrame | No
     absent = [n for n in names if n not in set(df["body"].astype(str))]
     if absent:
         raise DataError(f"scene body {absent[0]!r} has no recordings in {path}")
+    spikes = find_outliers(df, names)
+    if spikes and outliers == "refuse":
+        more = f" (and {len(spikes) - 1} more)" if len(spikes) > 1 else ""
+        raise DataError(f"recordings {path}: {spikes[0].describe()}{more}; fix or drop the row, "
+                        f"or load with outliers='flag'")
     episodes = []
     for ep, g in df.groupby("episode", sort=True):
-        episodes.append(_episode(int(ep), g, names, path))
+        e = _episode(int(ep), g, names, path)
+        flagged = tuple(o for o in spikes if o.episode == e.id)
+        episodes.append(Episode(e.id, e.t, e.pose, flagged) if flagged else e)
     return episodes
 
 

@@ -16,15 +16,14 @@ windows out of eight to noise level. In the geometric mean every window counts o
 
 from __future__ import annotations
 
-import multiprocessing as mp
 from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from voe.gap.effects.base import Effect, EffectSum
 from voe.gap.fit import FitResult, Fitter, extend
+from voe.parallel import parallel_map
 
 GROUP_TOL = 0.10  # held-out error ratio within 10 % of the winner's counts as indistinguishable
 N_BOOT = 400
@@ -108,37 +107,22 @@ def candidate_gains(fitter: Fitter, candidates: dict[str, Effect], current: Effe
     fitter holds pymunk scenes and recordings; forked workers inherit them instead of pickling
     them, and each candidate's fit is deterministic, so the results do not depend on ``n_jobs``.
     """
-    global _TASK
     results: dict[str, FitResult] = {}
-    if n_jobs > 1 and len(candidates) > 1 and "fork" in mp.get_all_start_methods():
-        _TASK = (fitter, candidates, current, params)
-        try:
-            with ProcessPoolExecutor(min(n_jobs, len(candidates)), mp_context=mp.get_context("fork")) as pool:
-                futures = {pool.submit(_fit_one, k): k for k in candidates}
-                for fut in as_completed(futures):
-                    key, res, n_roll = fut.result()
-                    results[key] = res
-                    fitter.shooter.n_rollouts += n_roll
-                    if progress:
-                        progress(key)
-        finally:
-            _TASK = None
-        results = {k: results[k] for k in candidates}
-    else:
-        for key in candidates:
-            results[key] = _fit_one(key, (fitter, candidates, current, params))[1]
-            if progress:
-                progress(key)
+    task = (fitter, candidates, current, params)
+    n0, spent = fitter.shooter.n_rollouts, 0
+    for key, res, n_roll in parallel_map(lambda k: _fit_one(k, task), list(candidates), n_jobs, start_method="fork"):
+        results[key] = res
+        spent += n_roll
+        if progress:
+            progress(key)
+    fitter.shooter.n_rollouts = n0 + spent  # forked workers counted in their own copies
     gains = {k: window_gain(before_sse, r.window_sse) for k, r in results.items()}  # -inf for a rollout that blew up
     return results, gains
 
 
-_TASK: tuple | None = None  # (fitter, candidates, current, params) inherited by forked workers
-
-
-def _fit_one(key: str, task: tuple | None = None) -> tuple[str, FitResult, int]:
-    """Fit candidate ``key`` of ``task`` (default: the forked ``_TASK``); returns the rollouts it cost."""
-    fitter, candidates, current, params = task or _TASK
+def _fit_one(key: str, task: tuple) -> tuple[str, FitResult, int]:
+    """Fit candidate ``key`` of ``task``; returns the rollouts it cost."""
+    fitter, candidates, current, params = task
     n0 = fitter.shooter.n_rollouts
     effect, starts = extend(current, params, candidates[key], fitter.ctx)
     return key, fitter.fit(effect, starts), fitter.shooter.n_rollouts - n0

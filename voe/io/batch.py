@@ -24,7 +24,12 @@ class Batch:
         dt: seconds between frames.
         geometry: per clip, the static segments and occluders (JSON-able dicts); models that
             re-simulate (the physics oracle) need them, others may ignore them.
-        clip_ids: ids of the clips, for error messages.
+        clip_ids: opaque keys of the clips (``voe.io.clipkey.clip_key``), for error messages and
+            caching only. They name no role, and a model's surprise must not depend on them:
+            ``check_model`` renames them and expects the same numbers.
+        seeds: per clip, a seed for stochastic scorers (noise draws, diffusion timesteps). Every
+            clip of one matched set gets the same seed (common random numbers), so the noise
+            cancels in the comparison; a deterministic model ignores it.
     """
 
     frames: np.ndarray
@@ -34,6 +39,7 @@ class Batch:
     dt: float
     geometry: tuple[dict[str, Any], ...] = field(default=())
     clip_ids: tuple[str, ...] = field(default=())
+    seeds: tuple[int, ...] = field(default=())
 
     def __len__(self) -> int:
         return int(self.frames.shape[0])
@@ -55,4 +61,5 @@ class Batch:
             rows = [int(i) for i in idx]
         return Batch(self.frames[rows], self.states[rows], self.present[rows], self.feature_names,
                      self.dt, tuple(self.geometry[i] for i in rows) if self.geometry else (),
-                     tuple(self.clip_ids[i] for i in rows) if self.clip_ids else ())
+                     tuple(self.clip_ids[i] for i in rows) if self.clip_ids else (),
+                     tuple(self.seeds[i] for i in rows) if self.seeds else ())

@@ -1,25 +1,27 @@
-"""Probe sets (and training sets) on disk: one directory, no pickle, checksummed.
+"""Probe sets (and training sets) on disk: one directory, no pickle, checksummed, sharded.
 
 Layout::
 
     manifest.json   schema version, package versions, seeds, concept ids, dt, frame size,
-                    feature names, and the sha256 of every other file
+                    feature names, the shards and their clip counts, and the sha256 of every
+                    other file
     index.parquet   one row per clip (clip_id, concept, set_id, variant, role, onset_frame, seed,
                     visible_violation, n_distractors, params JSON, geometry JSON, row, ...)
-    frames.npy      (N, T, H, W) uint8
-    states.npy      (N, T, K, F) float32, NaN where not present
-    present.npy     (N, T, K) bool, visible in that frame
-    exists.npy      (N, T, K) bool, exists (ground truth; not shown to models)
+    shards/NNNNN/   frames.npy (n, T, H, W) uint8; states.npy (n, T, K, F) float32, NaN where
+                    not present; present.npy (n, T, K) bool, visible in that frame;
+                    exists.npy (n, T, K) bool, exists (ground truth; not shown to models)
 
-Why stacked ``.npy``: they are memory-mapped without pickle, and byte-identical for the same
-seed (``np.savez`` would stamp zip times).
+``row`` numbers clips across shards in order (see ``voe.io.shards``). Why stacked ``.npy`` per
+shard: they are memory-mapped without pickle, byte-identical for the same seed (``np.savez``
+would stamp zip times), and neither writing nor reading a set holds more than a shard or two.
+Sets written before sharding (schema 1: the four arrays at the top level) are still read.
 """
 
 from __future__ import annotations
 
 import io
 import json
-from collections.abc import Sequence
+from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -31,8 +33,11 @@ from voe.errors import ProbeSetError
 from voe.io.atomic import atomic_dir
 from voe.io.batch import Batch
 from voe.io.provenance import sha256_bytes, sha256_file
+from voe.io.shards import ShardedArray, ShardWriter, check_shard_paths
 
-SCHEMA_VERSION = 1
+SCHEMA_VERSION = 2  # 2: sharded arrays; 1: one stacked array per name (read, never written)
+READABLE_SCHEMAS = (1, 2)
+DTYPES = {"frames": np.uint8, "states": np.float32, "present": bool, "exists": bool}
 ARRAYS = ("frames", "states", "present", "exists")
 INDEX_COLUMNS = ("clip_id", "concept", "set_id", "variant", "role", "onset_frame", "seed",
                  "visible_violation", "n_distractors", "params", "geometry", "row")
@@ -50,50 +55,44 @@ class ClipRecord:
     exists: np.ndarray  # (T, K) bool
 
 
-def _npy_bytes(arr: np.ndarray) -> bytes:
-    buf = io.BytesIO()
-    np.save(buf, np.ascontiguousarray(arr), allow_pickle=False)
-    return buf.getvalue()
-
-
 def _parquet_bytes(df: pd.DataFrame) -> bytes:
     buf = io.BytesIO()
     df.to_parquet(buf, index=False, engine="pyarrow", compression="zstd")
     return buf.getvalue()
 
 
-def write_probe_set(out: Path, records: Sequence[ClipRecord], meta: dict[str, Any],
+def write_probe_set(out: Path, records: Iterable[ClipRecord], meta: dict[str, Any],
                     overwrite: bool = False) -> dict[str, Any]:
     """Write clips and a manifest to ``out`` atomically; returns the manifest.
 
+    Records are consumed one at a time and written a shard at a time, so a generator of clips
+    is never held in memory as a whole (only the index rows are).
+
     Args:
         out: target directory (must not exist or be empty unless ``overwrite``).
-        records: clips in their final order.
+        records: clips in their final order (any iterable, e.g. ``parallel_map``'s iterator).
         meta: manifest fields (seeds, concept ids, dt, size, feature names, versions, ...).
     """
-    if not records:
-        raise ProbeSetError(f"refusing to write an empty set to {out}")
     rows = []
-    for i, rec in enumerate(records):
-        row = dict(rec.row)
-        row["row"] = i
-        rows.append(row)
-    index = pd.DataFrame(rows)
-    missing = [c for c in INDEX_COLUMNS if c not in index.columns]
-    if missing:
-        raise ProbeSetError(f"internal: index rows lack columns {missing}")
-    blobs = {
-        "index.parquet": _parquet_bytes(index),
-        "frames.npy": _npy_bytes(np.stack([r.frames for r in records]).astype(np.uint8)),
-        "states.npy": _npy_bytes(np.stack([r.states for r in records]).astype(np.float32)),
-        "present.npy": _npy_bytes(np.stack([r.present for r in records]).astype(bool)),
-        "exists.npy": _npy_bytes(np.stack([r.exists for r in records]).astype(bool)),
-    }
-    manifest = {"schema_version": SCHEMA_VERSION, **meta, "n_clips": len(records),
-                "files": {name: sha256_bytes(data) for name, data in sorted(blobs.items())}}
     with atomic_dir(Path(out), overwrite=overwrite) as tmp:
-        for name, data in blobs.items():
-            (tmp / name).write_bytes(data)
+        writer = ShardWriter(tmp, DTYPES)
+        for i, rec in enumerate(records):
+            rows.append({**rec.row, "row": i})
+            writer.add({name: getattr(rec, name) for name in ARRAYS})
+        writer.flush()
+        if not rows:
+            raise ProbeSetError(f"refusing to write an empty set to {out}")
+        index = pd.DataFrame(rows)
+        del rows
+        missing = [c for c in INDEX_COLUMNS if c not in index.columns]
+        if missing:
+            raise ProbeSetError(f"internal: index rows lack columns {missing}")
+        blob = _parquet_bytes(index)
+        (tmp / "index.parquet").write_bytes(blob)
+        files = {"index.parquet": sha256_bytes(blob), **writer.files}
+        manifest = {"schema_version": SCHEMA_VERSION, **meta, "n_clips": len(index),
+                    "shard_clips": writer.capacity, "shards": writer.shards,
+                    "files": dict(sorted(files.items()))}
         (tmp / "manifest.json").write_text(json.dumps(manifest, indent=1, sort_keys=True) + "\n")
     return manifest
 
@@ -118,9 +117,10 @@ class ProbeSet:
             self.manifest: dict[str, Any] = json.loads(mpath.read_text())
         except json.JSONDecodeError as exc:
             raise ProbeSetError(f"{mpath} is not valid JSON: {exc}") from exc
-        if self.manifest.get("schema_version") != SCHEMA_VERSION:
-            raise ProbeSetError(f"{mpath}: schema_version {self.manifest.get('schema_version')!r} "
-                                f"is not {SCHEMA_VERSION}")
+        version = self.manifest.get("schema_version")
+        if version not in READABLE_SCHEMAS:
+            raise ProbeSetError(f"{mpath}: schema_version {version!r} is not one of {READABLE_SCHEMAS}; "
+                                f"regenerate the set with this voe (or upgrade voe)")
         try:
             self.index: pd.DataFrame = pd.read_parquet(self.path / "index.parquet")
         except Exception as exc:  # pyarrow raises several types for corrupt files
@@ -128,8 +128,14 @@ class ProbeSet:
         missing = [c for c in INDEX_COLUMNS if c not in self.index.columns]
         if missing:
             raise ProbeSetError(f"{self.path / 'index.parquet'} lacks columns {missing}")
-        self._arrays: dict[str, np.ndarray] = {}
-        self._rows = pd.Series(self.index["row"].to_numpy(), index=self.index["clip_id"].to_numpy())
+        if version == 1:  # one stacked array per name at the top level: a single "shard"
+            self._shards = [("", int(self.manifest.get("n_clips", len(self.index))))]
+        else:
+            self._shards = check_shard_paths(self.manifest.get("shards"), mpath)
+        self._arrays: dict[str, ShardedArray] = {}
+        ids = self.index["clip_id"].to_numpy()
+        self._rows = pd.Series(self.index["row"].to_numpy(), index=ids)
+        self._pos = pd.Series(np.arange(len(ids)), index=ids)  # position in ``index``
 
     # -- metadata ----------------------------------------------------------------------------
     @property
@@ -145,14 +151,27 @@ class ProbeSet:
         """Hash of the manifest, which pins every file by its own hash."""
         return sha256_file(self.path / "manifest.json")
 
-    def array(self, name: str) -> np.ndarray:
-        """A memory-mapped stacked array (``frames``, ``states``, ``present`` or ``exists``)."""
+    @property
+    def shards(self) -> list[tuple[str, int]]:
+        """(directory relative to the set, number of clips) per shard, in row order."""
+        return list(self._shards)
+
+    def data_files(self) -> list[str]:
+        """Relative paths of every array file the set must have (what the manifest hashes)."""
+        return [f"{rel}/{a}.npy" if rel else f"{a}.npy" for rel, _ in self._shards for a in ARRAYS]
+
+    def shard_of(self, rows: np.ndarray) -> np.ndarray:
+        """The shard number of each clip row."""
+        ends = np.cumsum([n for _, n in self._shards])
+        return np.searchsorted(ends, np.asarray(rows), side="right")
+
+    def array(self, name: str) -> ShardedArray:
+        """A clip-indexed view of one array (``frames``, ``states``, ``present`` or ``exists``):
+        ``arr[rows]`` reads just those clips from their shards."""
+        if name not in ARRAYS:
+            raise ProbeSetError(f"unknown array '{name}' (known: {', '.join(ARRAYS)})")
         if name not in self._arrays:
-            path = self.path / f"{name}.npy"
-            try:
-                self._arrays[name] = np.load(path, mmap_mode="r", allow_pickle=False)
-            except (OSError, ValueError) as exc:
-                raise ProbeSetError(f"{path} cannot be read: {exc}") from exc
+            self._arrays[name] = ShardedArray(self.path, name, self._shards)
         return self._arrays[name]
 
     def rows(self, clip_ids: Sequence[str]) -> np.ndarray:
@@ -165,19 +184,25 @@ class ProbeSet:
     def get(self, clip_ids: Sequence[str]) -> dict[str, np.ndarray]:
         """Frames ``(B,T,H,W)``, states ``(B,T,K,F)``, present/exists ``(B,T,K)`` for clips."""
         rows = self.rows(clip_ids)
-        return {name: np.asarray(self.array(name)[rows]) for name in ARRAYS}
+        return {name: self.array(name).read(rows) for name in ARRAYS}
 
     def batch(self, clip_ids: Sequence[str]) -> Batch:
         """The model-facing ``Batch`` for clips (no ground-truth ``exists``)."""
         rows = self.rows(clip_ids)
-        geo = self.index.set_index("clip_id").loc[list(clip_ids), "geometry"]
+        geo = self.index["geometry"].to_numpy()[self._pos.loc[list(clip_ids)].to_numpy()]
         return Batch(
-            frames=np.asarray(self.array("frames")[rows]),
-            states=np.asarray(self.array("states")[rows]),
-            present=np.asarray(self.array("present")[rows]),
+            frames=self.array("frames").read(rows),
+            states=self.array("states").read(rows),
+            present=self.array("present").read(rows),
             feature_names=self.feature_names, dt=self.dt,
             geometry=tuple(json.loads(g) for g in geo), clip_ids=tuple(clip_ids),
         )
+
+    def batches(self, clip_ids: Sequence[str], size: int = 64) -> Iterator[Batch]:
+        """``batch`` over consecutive chunks of ``clip_ids``: a bounded amount in memory at once."""
+        ids = list(clip_ids)
+        for start in range(0, len(ids), size):
+            yield self.batch(ids[start:start + size])
 
     def __len__(self) -> int:
         return len(self.index)

@@ -1,24 +1,31 @@
-"""``voe probes validate``: checksums, schema and frame balance of a probe set on disk."""
+"""``voe probes validate``: checksums, schema and balance of a probe set on disk.
+
+Why: a probe set's promises (every file as the manifest pins it; every matched set at least as
+balanced as its concept claims) are checked on the stored bytes, not on how the set was built.
+"""
 
 from __future__ import annotations
 
+import io
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
 from voe.errors import ProbeSetError
-from voe.io.balance import pair_problem, quadruplet_problem
-from voe.io.probeset import ARRAYS, ROLES, ProbeSet
+from voe.io.balance import LEVELS, ClipData, parse_claim, set_problems
+from voe.io.probeset import ROLES, ProbeSet
 from voe.io.provenance import sha256_file
 
 
 @dataclass
 class ValidationReport:
-    """Problems found (empty means valid) and a per-concept balance table."""
+    """Problems found (empty means valid), the balance each set reaches and a per-condition table."""
 
     problems: list[str] = field(default_factory=list)
-    table: pd.DataFrame | None = None
+    table: pd.DataFrame | None = None  # per concept and condition: claimed, weakest reached, n ok
+    sets: pd.DataFrame | None = None  # per matched set: condition, claimed, reached, each level
 
     @property
     def ok(self) -> bool:
@@ -27,7 +34,7 @@ class ValidationReport:
 
 def _checksums(ps: ProbeSet, rep: ValidationReport) -> None:
     files = ps.manifest.get("files", {})
-    for name in ("index.parquet",) + tuple(f"{a}.npy" for a in ARRAYS):
+    for name in ["index.parquet", *ps.data_files()]:
         if name not in files:
             rep.problems.append(f"manifest.json lists no checksum for {name}")
     for name, digest in files.items():
@@ -48,7 +55,7 @@ def _schema(ps: ProbeSet, rep: ValidationReport) -> bool:
     for name, (shape, dtype) in want.items():
         arr = ps.array(name)
         if arr.shape != shape or arr.dtype != dtype:
-            rep.problems.append(f"{ps.path / (name + '.npy')}: {arr.dtype}{arr.shape}, expected "
+            rep.problems.append(f"{ps.path} {name}: {arr.dtype}{arr.shape}, expected "
                                 f"{np.dtype(dtype)}{shape}")
             ok = False
     if m.get("n_clips") != n:
@@ -62,33 +69,79 @@ def _schema(ps: ProbeSet, rep: ValidationReport) -> bool:
     if ((onset < 0) | (onset >= T)).any() and (ps.index["role"] != "train").all():
         rep.problems.append("index.parquet: onset_frame outside [0, T)")
     if ok:
-        nan_rows = np.isnan(np.asarray(ps.array("states"))).all(axis=-1)  # (N, T, K)
-        if (nan_rows != ~np.asarray(ps.array("present"))).any():
-            rep.problems.append("states.npy: NaN rows do not match present.npy")
+        for start in range(0, n, 256):  # a chunk of clips at a time: memory does not grow with n
+            rows = np.arange(start, min(n, start + 256))
+            nan_rows = np.isnan(ps.array("states")[rows]).all(axis=-1)  # (n, T, K)
+            if (nan_rows != ~ps.array("present")[rows]).any():
+                rep.problems.append("states.npy: NaN rows do not match present.npy")
+                break
     return ok
 
 
+def _claim(g: pd.DataFrame) -> str:
+    """What a set's concept claims: the stored ``balance_claim``, else the registry's declaration."""
+    if "balance_claim" in g and isinstance(g["balance_claim"].iloc[0], str):
+        return g["balance_claim"].iloc[0]
+    from voe.concepts import CONCEPTS, get_concept  # sets written before claims were stored
+
+    cid = g["concept"].iloc[0]
+    if cid not in CONCEPTS.ids():
+        return ""
+    c = get_concept(cid)
+    return c.balance.get(c.condition(bool(g["visible_violation"].iloc[0])), "")
+
+
 def _balance(ps: ProbeSet, rep: ValidationReport) -> None:
-    frames = ps.array("frames")
+    arrays = {name: ps.array(name) for name in ("frames", "states", "present")}
+    names = ps.feature_names
     rows = []
     for set_id, g in ps.index.groupby("set_id", sort=True):
         if (g["role"] == "train").all():
             continue
         kind = g["set_kind"].iloc[0] if "set_kind" in g else ("quadruplet" if len(g) == 4 else "pair")
-        pos = [np.asarray(frames[r]) for r in g.loc[g.role == "possible", "row"]]
-        imp = [np.asarray(frames[r]) for r in g.loc[g.role == "impossible", "row"]]
-        if kind == "quadruplet":
-            why = quadruplet_problem(pos, imp) if len(pos) == 2 == len(imp) else "not 2+2 clips"
-        else:
-            why = (pair_problem(pos[0], imp[0], int(g["onset_frame"].iloc[0]))
-                   if len(pos) == 1 == len(imp) else "not 1+1 clips")
-        if why:
-            rep.problems.append(f"set {set_id}: {why}")
-        rows.append({"concept": g["concept"].iloc[0], "kind": kind, "balanced": why is None})
+        clips = {role: [ClipData(*(np.asarray(arrays[a][r]) for a in ("frames", "states", "present")))
+                        for r in g.loc[g.role == role, "row"]] for role in ("possible", "impossible")}
+        claim = _claim(g)
+        condition = (g["condition"].iloc[0] if "condition" in g
+                     else ("visible" if bool(g["visible_violation"].iloc[0]) else "occluded"))
+        try:
+            reached, why = set_problems(kind, claim, clips["possible"], clips["impossible"],
+                                        int(g["onset_frame"].iloc[0]), names)
+        except ValueError as exc:  # an unreadable claim
+            reached, why = None, [str(exc)]
+        rep.problems += [f"set {set_id} ({g['concept'].iloc[0]}, {condition}): {w}" for w in why]
+        row = {"set_id": set_id, "concept": g["concept"].iloc[0], "kind": kind, "condition": condition,
+               "carries_verdict": bool(g["carries_verdict"].iloc[0]) if "carries_verdict" in g else True,
+               "claimed": claim, "reached": str(reached) if reached else "", "ok": not why}
+        row.update({lvl: (reached.T if lvl == "T" else bool(getattr(reached, lvl))) if reached else None
+                    for lvl in LEVELS})
+        rows.append(row)
     if rows:
-        df = pd.DataFrame(rows)
-        rep.table = (df.groupby(["concept", "kind"]).agg(n_sets=("balanced", "size"),
-                                                         balanced=("balanced", "sum")).reset_index())
+        rep.sets = pd.DataFrame(rows)
+        rep.table = (rep.sets.groupby(["concept", "condition"], sort=True)
+                     .agg(kind=("kind", "first"), verdict=("carries_verdict", "first"),
+                          claimed=("claimed", "first"), reached=("reached", _weakest),
+                          n_sets=("ok", "size"), ok=("ok", "sum")).reset_index())
+
+
+def _weakest(reached: pd.Series) -> str:
+    """The balance every set of a group reaches (levels common to all, the smallest T)."""
+    parsed = [parse_claim(r.replace("none", "")) for r in reached]
+    common = set.intersection(*(set(p) for p in parsed)) if parsed else set()
+    parts = [lvl for lvl in ("F", "M") if lvl in common]
+    parts += [f"T{min(p['T'] for p in parsed)}"] if "T" in common else []
+    parts += [lvl for lvl in ("P", "V", "H", "D") if lvl in common]
+    return "+".join(parts) or "none"
+
+
+def write_balance(rep: ValidationReport, out: Path) -> Path:
+    """Store the per-set balance table (``balance.parquet``) atomically."""
+    from voe.io.atomic import atomic_write_bytes
+
+    buf = io.BytesIO()
+    (rep.sets if rep.sets is not None else pd.DataFrame()).to_parquet(buf, index=False)
+    atomic_write_bytes(out, buf.getvalue())
+    return out
 
 
 def validate_probe_set(ps: ProbeSet) -> ValidationReport:

@@ -5,11 +5,16 @@ and ``nll`` over windows of frames; state models train on windows of 2 frames (t
 the per-slot memory already), the pixel model on short windows through its recurrent memory.
 References are "trained" by fitting their noise by maximum likelihood. Validation NLL is the mean
 per-frame surprise (nats) over scored frames of held-out clips, the same number ``bench`` prints.
+
+Memory does not grow with the training set: at most ``buffer_clips`` training clips are in memory
+at a time (whole shards, see ``voe.models.clips``), validation streams in chunks, and references
+calibrate on a seeded sample of at most ``buffer_clips`` clips.
 """
 
 from __future__ import annotations
 
 import copy
+import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -20,7 +25,8 @@ import numpy as np
 
 from voe.errors import ProbeSetError, VoeError
 from voe.io.batch import Batch
-from voe.io.probeset import load_probe_set
+from voe.io.probeset import ProbeSet, load_probe_set
+from voe.models.clips import Clips, GroupSampler, MemoryClips, as_clips
 
 
 @dataclass(frozen=True)
@@ -34,25 +40,38 @@ class TrainConfig:
     val_frac: float = 0.1
     eval_every: int = 100
     threads: int = 1  # torch threads on CPU: on a shared 2-core machine one thread is fastest
+    buffer_clips: int = 1024  # training clips in memory at once (a larger set is visited in groups)
+    group_draws: int = 16  # windows drawn per buffered clip before the next group is loaded
 
 
-def split_batches(data: Path, val_frac: float, seed: int) -> tuple[Batch, Batch, str]:
-    """Train and validation batches of a set's possible/training clips, and the manifest hash."""
-    ps = load_probe_set(data)
+def split_ids(ps: ProbeSet, val_frac: float, seed: int) -> tuple[list[str], list[str]]:
+    """Training and validation clip ids (sorted) among a set's possible/training clips."""
     ids = list(ps.index.loc[ps.index.role != "impossible", "clip_id"])
     if len(ids) < 2:
-        raise ProbeSetError(f"training set {data} has {len(ids)} usable clip(s); need at least 2 "
+        raise ProbeSetError(f"training set {ps.path} has {len(ids)} usable clip(s); need at least 2 "
                             f"(one for validation); generate more with `voe world generate --n N`")
     rng = np.random.default_rng(seed)
     order = [ids[i] for i in rng.permutation(len(ids))]
     n_val = min(len(ids) - 1, max(1, int(round(val_frac * len(ids)))))
-    val, tr = sorted(order[:n_val]), sorted(order[n_val:])
-    return ps.batch(tr), ps.batch(val), ps.manifest_sha256
+    return sorted(order[n_val:]), sorted(order[:n_val])
 
 
-def val_nll(model: Any, batch: Batch, chunk: int = 64) -> float:
-    """Mean per-frame surprise over scored frames."""
-    parts = [model.frame_nll(batch.take(slice(i, i + chunk))) for i in range(0, len(batch), chunk)]
+def split_clips(data: Path, val_frac: float, seed: int) -> tuple[Clips, Clips, str]:
+    """Training and validation clips (read from disk on demand) and the manifest hash."""
+    ps = load_probe_set(data)
+    tr, val = split_ids(ps, val_frac, seed)
+    return Clips(ps, tr), Clips(ps, val), ps.manifest_sha256
+
+
+def split_batches(data: Path, val_frac: float, seed: int) -> tuple[Batch, Batch, str]:
+    """``split_clips`` loaded into two in-memory batches (small sets, tests and benches)."""
+    tr, val, sha = split_clips(data, val_frac, seed)
+    return tr.load(), val.load(), sha
+
+
+def val_nll(model: Any, clips: Batch | Clips | MemoryClips, chunk: int = 64) -> float:
+    """Mean per-frame surprise over scored frames, ``chunk`` clips in memory at a time."""
+    parts = [model.frame_nll(b) for b in as_clips(clips).batches(chunk)]  # each (chunk, T)
     return float(np.nanmean(np.concatenate(parts)))
 
 
@@ -64,9 +83,13 @@ def _windows(data: dict, b: np.ndarray, t0: np.ndarray, L: int) -> dict:
     return {k: v[bi, ti] for k, v in data.items()}  # each (n, L, ...)
 
 
-def fit(model: Any, train: Batch, val: Batch, cfg: TrainConfig,
+def fit(model: Any, train: Batch | Clips, val: Batch | Clips, cfg: TrainConfig,
         report: Callable[[int, float, float | None], None] | None = None) -> dict[str, Any]:
-    """Train a ``TorchModel`` in place; keeps the weights with the best validation NLL."""
+    """Train a ``TorchModel`` in place; keeps the weights with the best validation NLL.
+
+    ``train`` and ``val`` are in-memory batches or ``Clips`` read from a set's shards; at most
+    ``cfg.buffer_clips`` training clips are prepared at a time.
+    """
     import torch
 
     if cfg.device == "cuda" and not torch.cuda.is_available():
@@ -76,8 +99,14 @@ def fit(model: Any, train: Batch, val: Batch, cfg: TrainConfig,
         torch.set_num_threads(cfg.threads)
     torch.manual_seed(cfg.seed)
     rng = np.random.default_rng(cfg.seed)
-    data = model.prepare(train)
-    T = train.shape[1]
+    train = as_clips(train)
+    groups = train.groups(cfg.buffer_clips)
+    sampler = GroupSampler(groups, cfg.seed)
+    ids = sampler.next()
+    first = train.load(ids)
+    data, n_buf, T = model.prepare(first), len(ids), first.shape[1]
+    del first
+    per_group = max(1, math.ceil(n_buf * cfg.group_draws / preset["batch"]))  # steps per group
     L = min(preset["window"], T)
     model.net.to(cfg.device)
     opt = torch.optim.Adam(model.net.parameters(), lr=preset["lr"])
@@ -86,8 +115,11 @@ def fit(model: Any, train: Batch, val: Batch, cfg: TrainConfig,
     best, best_state, history, step = float("inf"), None, [], 0
     start = time.monotonic()
     while step < steps and time.monotonic() < deadline:
+        if len(groups) > 1 and step and step % per_group == 0:  # the next group of shards
+            ids, data = sampler.next(), {}  # drop the old group before loading the next
+            data, n_buf = model.prepare(train.load(ids)), len(ids)
         model.net.train()
-        b = rng.integers(0, len(train), preset["batch"])
+        b = rng.integers(0, n_buf, preset["batch"])
         t0 = rng.integers(0, T - L + 1, preset["batch"])
         win = {k: v.to(cfg.device) for k, v in _windows(data, b, t0, L).items()}
         done = step / steps if cfg.steps is not None else (time.monotonic() - start) / (60 * cfg.minutes)
@@ -116,7 +148,8 @@ def fit(model: Any, train: Batch, val: Batch, cfg: TrainConfig,
         model.net.load_state_dict({k: t.cpu() for k, t in best_state.items()})
     seconds = time.monotonic() - start
     return {"steps": step, "seconds": seconds, "val_nll": best, "history": history,
-            "train_frames_per_s": step * preset["batch"] * (L - model.warmup) / max(seconds, 1e-9)}
+            "train_frames_per_s": step * preset["batch"] * (L - model.warmup) / max(seconds, 1e-9),
+            "train_groups": len(groups)}
 
 
 def train(ref: str, data: Path, out: Path, cfg: TrainConfig, args: dict[str, Any] | None = None,
@@ -127,29 +160,30 @@ def train(ref: str, data: Path, out: Path, cfg: TrainConfig, args: dict[str, Any
     from voe.models.loading import load_model, resolve
 
     full, _ = resolve(ref)
-    train_b, val_b, sha = split_batches(data, cfg.val_frac, cfg.seed)
+    train_c, val_c, sha = split_clips(data, cfg.val_frac, cfg.seed)
     args = dict(args or {})
     meta: dict[str, Any] = {"model": full, "seed": cfg.seed, "train_data": str(data),
-                            "train_manifest_sha256": sha, "n_train": len(train_b), "n_val": len(val_b),
+                            "train_manifest_sha256": sha, "n_train": len(train_c), "n_val": len(val_c),
                             "versions": package_versions()}
     from voe.models.torchbase import TorchModel
 
     model = load_model(ref, {"seed": cfg.seed, **args} if _is_learned(full) else args)
     if isinstance(model, TorchModel):
-        summary = fit(model, train_b, val_b, cfg, report)
-        model.layout = model.batch_layout(train_b)
+        summary = fit(model, train_c, val_c, cfg, report)
+        model.layout = model.batch_layout(train_c.load(train_c.ids[:2]))
         meta.update(config=model.config_dict(), feature_layout=model.layout, **summary)
         save_checkpoint(out, meta, model.weights())
         return meta
     if not hasattr(model, "calibrate"):
         raise VoeError(f"model '{ref}' is neither trainable nor calibratable")
     start = time.monotonic()
-    model.calibrate(train_b)
-    v = val_nll(model, val_b)
+    calib = train_c.sample(cfg.buffer_clips, cfg.seed)  # a bounded, seeded sample of a large set
+    model.calibrate(calib.load())
+    v = val_nll(model, val_c)
     if report:
         report(1, v, v)
-    meta.update(config=model.config(), feature_layout={"feature_names": list(train_b.feature_names)},
-                steps=1, seconds=time.monotonic() - start, val_nll=v, history=[])
+    meta.update(config=model.config(), feature_layout={"feature_names": list(train_c.ps.feature_names)},
+                steps=1, seconds=time.monotonic() - start, val_nll=v, history=[], n_calibration=len(calib))
     save_checkpoint(out, meta)
     return meta
 

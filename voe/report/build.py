@@ -66,7 +66,7 @@ def _describe_runs(runs: Sequence[Run]) -> pd.DataFrame:
         m = r.meta["model"]
         args = ", ".join(f"{k}={v}" for k, v in sorted((m.get("args") or {}).items()))
         rows.append({"model": r.label, "ref": m.get("ref", ""), "args": args,
-                     "observation": m.get("observation", ""),
+                     "observation": m.get("observation", ""), "surprise": r.surprise_kind,
                      "checkpoint sha256": (m.get("checkpoint_sha256") or "-")[:12],
                      "clips": len(r.clips), "wall time (s)": r.meta.get("wall_time_s", ""),
                      "run": r.path.name})
@@ -165,7 +165,11 @@ def _blocks(title, runs, summary, conditions, concepts, looking, films, film_not
         R.Heading("How to read this report"),
         R.Para("Each probe is a *matched set*: clips that are identical except that some show a physically "
                "impossible event from an *onset* frame on. A model reads every clip frame by frame and "
-               "reports its *surprise* (negative log-likelihood of each frame given the past, in nats). "
+               "reports its *surprise* (negative log-likelihood of each frame given the past, in nats; "
+               "a model may instead declare a *bound* on it or a representation-space prediction *error*, "
+               "shown as `surprise` under Models: every accuracy, CI, p-value and AUROC below only "
+               "compares surprises and means the same for every kind, while relative surprise needs "
+               "nats and is left blank otherwise). "
                "A model that has learned a concept is more surprised by the impossible clips, like an "
                "infant who looks longer at an impossible event (violation of expectation). Quadruplets "
                "are spliced so that the impossible pair holds exactly the frames of the possible pair: "

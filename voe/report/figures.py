@@ -108,7 +108,7 @@ def looking_time(run: Run, concepts: Sequence[str]):
             ax.axvline(0, color="black", ls="--", lw=0.8)
             ax.tick_params(labelsize=7)
         top.set_title(concept_name(concept), fontsize=10)
-        top.set_ylabel("surprise (nats/frame)", fontsize=8)
+        top.set_ylabel(f"surprise ({run.unit}/frame)", fontsize=8)
         bottom.set_ylabel("impossible − possible", fontsize=8)
         bottom.set_xlabel("frames from onset", fontsize=8)
         if k == 0:
@@ -170,6 +170,6 @@ def example_filmstrip(run: Run, frames: np.ndarray, set_id: str):
     labels = [v if v == r else f"{v} ({r})" for v, r in zip(order["variant"], order["role"], strict=True)]
     T = frames.shape[1]
     return filmstrip_figure([frames[i] for i in idx], labels, order["onset_frame"].astype(int).tolist(),
-                            every=max(1, T // 14), traces=[run.nll[i] for i in order.index],
+                            every=max(1, T // 14), traces=[run.nll[i] for i in order.index], unit=run.unit,
                             title=f"{set_id}: surprise of {run.label} under each clip "
                                   "(red box / dashed line: onset)")

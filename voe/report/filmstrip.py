@@ -16,7 +16,8 @@ from voe.io.atomic import atomic_write_bytes
 
 
 def filmstrip_figure(frames: Sequence[np.ndarray], labels: Sequence[str], onset: Sequence[int],
-                     every: int = 2, traces: Sequence[np.ndarray] | None = None, title: str = ""):
+                     every: int = 2, traces: Sequence[np.ndarray] | None = None, title: str = "",
+                     unit: str = "nats"):
     """A matplotlib figure: one row per clip (frames ``(T, H, W)``), optional surprise traces.
 
     Args:
@@ -70,7 +71,7 @@ def filmstrip_figure(frames: Sequence[np.ndarray], labels: Sequence[str], onset:
             if ylim is not None:
                 ax.set_ylim(*ylim)
             ax.tick_params(labelsize=6)
-            ax.set_ylabel("nats", fontsize=6)
+            ax.set_ylabel(unit, fontsize=6)
     if title:
         fig.suptitle(title, fontsize=9)
     return fig

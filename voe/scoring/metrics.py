@@ -1,6 +1,8 @@
 """Metrics of a model on matched sets: pure functions of per-frame surprise, ties count 0.5.
 
-Definitions (S = summed surprise in nats):
+Definitions (S = summed surprise; in nats for ``nll`` models, the model's own scale for ``bound``
+and ``error`` models, on which every metric except relative surprise works unchanged, since
+they only compare sums):
 
 * **matched-set accuracy** (primary): a quadruplet scores 1 if ``S(AB) + S(BA) > S(A) + S(B)``,
   0.5 on a tie, 0 otherwise; a pair compares its impossible clip with its possible clip.
@@ -30,10 +32,16 @@ TIE_RTOL = 1e-9
 TIE_ATOL = 0.01  # nats
 
 
-def compare(s_imp: np.ndarray | float, s_pos: np.ndarray | float) -> np.ndarray:
+def tie_atol(surprise_kind: str) -> float:
+    """The absolute tie tolerance: ``TIE_ATOL`` for nats; none for a bound or an error, whose scale
+    is the model's own (only the relative ``TIE_RTOL`` then applies)."""
+    return TIE_ATOL if surprise_kind == "nll" else 0.0
+
+
+def compare(s_imp: np.ndarray | float, s_pos: np.ndarray | float, atol: float = TIE_ATOL) -> np.ndarray:
     """1 where ``s_imp > s_pos``, 0.5 on a tie (within ``TIE_RTOL`` or ``TIE_ATOL``), 0 where below."""
     a, b = np.asarray(s_imp, dtype=np.float64), np.asarray(s_pos, dtype=np.float64)
-    tol = TIE_RTOL * (np.abs(a) + np.abs(b)) + TIE_ATOL
+    tol = TIE_RTOL * (np.abs(a) + np.abs(b)) + atol
     return np.where(np.abs(a - b) <= tol, 0.5, np.where(a > b, 1.0, 0.0))
 
 
@@ -49,12 +57,13 @@ class SetScore:
     n_frames: int  # frames scored in every clip of the set
 
 
-def score_set(traces: np.ndarray, impossible: np.ndarray) -> SetScore:
+def score_set(traces: np.ndarray, impossible: np.ndarray, atol: float = TIE_ATOL) -> SetScore:
     """Score one matched set.
 
     Args:
         traces: ``(n_clips, T)`` per-frame surprise, NaN where not scored.
         impossible: ``(n_clips,)`` bool, True for impossible clips (2+2 or 1+1).
+        atol: absolute tie tolerance (``tie_atol(surprise_kind)``).
     """
     traces = np.asarray(traces, dtype=np.float64)
     imp = np.asarray(impossible, dtype=bool)
@@ -65,11 +74,11 @@ def score_set(traces: np.ndarray, impossible: np.ndarray) -> SetScore:
     # Sum the per-frame difference so that identical frames cancel exactly (a + b == b + a).
     diff = float((x[imp].sum(axis=0) - x[~imp].sum(axis=0)).sum())
     s_imp, s_pos = float(x[imp].sum()), float(x[~imp].sum())
-    tol = TIE_RTOL * (abs(s_imp) + abs(s_pos)) + TIE_ATOL
+    tol = TIE_RTOL * (abs(s_imp) + abs(s_pos)) + atol
     acc = 0.5 if abs(diff) <= tol else (1.0 if diff > 0 else 0.0)
     if x.shape[1]:
         peak = x.max(axis=1)  # (n_clips,)
-        acc_max = float(compare(peak[imp][:, None], peak[~imp][None, :]).mean())
+        acc_max = float(compare(peak[imp][:, None], peak[~imp][None, :], atol).mean())
     else:
         acc_max = 0.5
     denom = s_imp + s_pos
@@ -91,7 +100,7 @@ def relative_surprise(s_imp: np.ndarray, s_pos: np.ndarray) -> np.ndarray:
         return np.where(d > 0, (a - b) / np.where(d > 0, d, 1.0), np.nan)
 
 
-def auroc(scores: np.ndarray, impossible: np.ndarray) -> float:
+def auroc(scores: np.ndarray, impossible: np.ndarray, atol: float = TIE_ATOL) -> float:
     """Area under the ROC curve of ``scores`` for the label ``impossible``; ties count 0.5.
 
     Computed as the Mann-Whitney probability over every (impossible, possible) pair of clips.
@@ -101,4 +110,4 @@ def auroc(scores: np.ndarray, impossible: np.ndarray) -> float:
     pos, neg = s[y], s[~y]
     if not pos.size or not neg.size:
         return float("nan")
-    return float(compare(pos[:, None], neg[None, :]).mean())  # (n_imp, n_pos) -> scalar
+    return float(compare(pos[:, None], neg[None, :], atol).mean())  # (n_imp, n_pos) -> scalar

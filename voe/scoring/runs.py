@@ -17,6 +17,13 @@ import pandas as pd
 
 from voe.errors import RunError
 
+#: What a run's surprise is, by ``surprise_kind`` (``run.json``; runs before it are ``nll``).
+SURPRISE_UNITS = {"nll": "nats", "bound": "bound", "error": "error"}
+SURPRISE_MEANING = {
+    "nll": "exact negative log-likelihood of each frame given the past, in nats",
+    "bound": "a bound on it (an ELBO or denoising loss), not calibrated nats",
+    "error": "a prediction error in some representation space, unitless",
+}
 CLIP_REQUIRED = ("clip_id", "concept", "set_id", "set_kind", "variant", "role", "onset_frame",
                  "visible_violation", "n_distractors", "sum", "max", "mean_post", "n_scored")
 FRAME_REQUIRED = ("clip_id", "t", "nll")
@@ -43,6 +50,15 @@ class Run:
     @property
     def manifest_sha256(self) -> str:
         return str(self.meta["probes"]["manifest_sha256"])
+
+    @property
+    def surprise_kind(self) -> str:
+        """``nll``, ``bound`` or ``error``: only ``nll`` is in calibrated nats."""
+        return str(self.meta.get("surprise_kind", "nll"))
+
+    @property
+    def unit(self) -> str:
+        return SURPRISE_UNITS.get(self.surprise_kind, self.surprise_kind)
 
     @property
     def probes_path(self) -> Path:

@@ -1,102 +1,109 @@
-"""Score a model on every clip of a probe set (teacher-forced) and store the run on disk.
+"""Score a model on every clip of a probe set (teacher-forced), blind, and store the run on disk.
 
-Layout of a run directory::
+Why teacher forcing only: ``frame_nll`` is given the stored clip and returns its per-frame
+surprise, so there is nothing to roll out; every metric is then a function of these numbers alone.
 
-    frames.parquet  raw per-frame surprise, stored once: clip_id, t, nll (nats; NaN = not scored)
-    clips.parquet   one row per clip: the probe-set index columns (without geometry) plus
-                    sum, max, mean_post (mean from the onset on) and n_scored
-    run.json        model ref, args, name, observation, checkpoint sha256, probe-set manifest
-                    sha256 and path, package versions, wall time, voe version
-
-Why teacher forcing only: ``frame_nll`` is given the stored clip and returns
-``-log p(o_t | o_<t)`` for every frame, so there is nothing to roll out; every metric is then a
-function of these numbers alone.
+Why blind: the model sees frames, states, presence, feature names, dt, geometry, opaque clip keys
+and common-random-number seeds, in a seeded shuffled order with at most one clip of a matched set
+per batch (``voe.scoring.order``). Results are stored by clip id as always (``voe.scoring.store``).
+Batches are cached as they are computed (``voe.scoring.cache``) so a run can resume, and ranks of
+a ``torchrun`` launch each score their own groups of matched sets (``voe.scoring.distributed``).
 """
 
 from __future__ import annotations
 
-import io
-import json
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
-import pandas as pd
 
-from voe import __version__
-from voe.errors import ModelContractError
-from voe.io.atomic import atomic_dir
+from voe.errors import ModelContractError, RunError, VoeError
 from voe.io.probeset import ProbeSet, load_probe_set
-from voe.io.provenance import package_versions, sha256_path
+from voe.io.provenance import sha256_path
+from voe.scoring.cache import ScoreCache
+from voe.scoring.device import place, precision
+from voe.scoring.distributed import SINGLE, Ranks, rank_device
+from voe.scoring.order import CRN_RULE, Blinder, Schedule, plan
+from voe.scoring.store import assemble, check_nll, surprise_kind, write_run
 
-RUN_SCHEMA_VERSION = 1
-#: Index columns copied into ``clips.parquet`` (geometry is bulky and only models need it).
-CLIP_COLUMNS = ("clip_id", "concept", "concept_name", "set_id", "set_kind", "variant", "role",
-                "onset_frame", "seed", "visible_violation", "n_distractors", "params", "row")
-SUMMARY_COLUMNS = ("sum", "max", "mean_post", "n_scored")
+#: Clips (from different matched sets) that ``check_model`` is run on before a checked run.
+CHECK_CLIPS = 6
 
 
-def check_nll(nll: Any, shape: tuple[int, int], model_name: str, clip_ids: tuple[str, ...]) -> np.ndarray:
-    """Validate one ``frame_nll`` answer and return it as float64 ``(B, T)``.
+def check_sample(model: Any, blinder: Blinder, sched: Schedule, n: int = CHECK_CLIPS) -> None:
+    """Run ``check_model`` on the first ``n`` clips of the schedule from distinct matched sets."""
+    from voe.models.check import check_model
 
-    The rule (from ``voe.models.protocol``): the shape is exactly ``(B, T)``; NaN marks frames the
-    model does not score and is allowed only in a leading warm-up prefix; every other value is
-    finite; each clip has at least one scored frame.
+    ids = blinder.sample(sched, n)
+    if len(ids) >= 2:
+        check_model(model, blinder.batch(ids))
 
-    Raises:
-        ModelContractError: naming the model and the first offending clip.
-    """
+
+def _one_line(exc: BaseException) -> str:
+    text = " ".join(str(exc).split())
+    return text[:300] + ("..." if len(text) > 300 else "")
+
+
+def _call(model: Any, name: str, batch, blinder: Blinder, done: int, cache: ScoreCache | None) -> Any:
+    """``model.frame_nll(batch)``; a model that raises becomes one line naming it and the clip."""
     try:
-        arr = np.asarray(nll, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise ModelContractError(f"model '{model_name}': frame_nll returned {type(nll).__name__}, "
-                                 f"not a numeric (B, T) array: {exc}") from exc
-    if arr.shape != shape:
-        raise ModelContractError(f"model '{model_name}': frame_nll returned shape {arr.shape}, "
-                                 f"expected (B, T) = {shape} for clips {clip_ids[:3]}...")
-    ids = clip_ids or tuple(str(i) for i in range(shape[0]))
-    for b, row in enumerate(arr):  # row: (T,)
-        if np.isinf(row).any():
-            t = int(np.flatnonzero(np.isinf(row))[0])
-            raise ModelContractError(f"model '{model_name}': infinite surprise at frame {t} of clip "
-                                     f"'{ids[b]}'; return a finite value (or NaN for unscored warm-up)")
-        scored = ~np.isnan(row)
-        if not scored.any():
-            raise ModelContractError(f"model '{model_name}': clip '{ids[b]}' has no scored frame "
-                                     "(all NaN)")
-        first = int(np.argmax(scored))
-        if not scored[first:].all():
-            t = first + int(np.flatnonzero(~scored[first:])[0])
-            raise ModelContractError(f"model '{model_name}': NaN at frame {t} of clip '{ids[b]}' "
-                                     f"after scored frame {first}; NaN is allowed only in a leading "
-                                     "warm-up prefix")
-    return arr
+        return model.frame_nll(batch)
+    except VoeError:
+        raise
+    except Exception as exc:
+        more = f" (and {len(batch) - 1} more in its batch)" if len(batch) > 1 else ""
+        kept = (f"{done} clips scored before it are kept in {cache.dir}; rerun the same command to resume"
+                if cache is not None else "rerun with a cache (voe score, or cache=...) to keep partial results")
+        raise ModelContractError(f"model '{name}' raised {type(exc).__name__} on clip "
+                                 f"{blinder.describe(batch.clip_ids[0])}{more}: {_one_line(exc)}; "
+                                 f"{kept}") from exc
 
 
-def clip_summaries(nll: np.ndarray, onset: np.ndarray) -> dict[str, np.ndarray]:
-    """Per-clip ``sum``, ``max``, ``mean_post`` and ``n_scored`` of ``nll`` ``(N, T)``."""
-    scored = ~np.isnan(nll)  # (N, T)
-    post = scored & (np.arange(nll.shape[1])[None, :] >= onset[:, None])  # (N, T)
-    n_post = post.sum(axis=1)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        mean_post = np.where(n_post > 0, np.where(post, nll, 0.0).sum(axis=1) / n_post, np.nan)
-    return {"sum": np.where(scored, nll, 0.0).sum(axis=1),
-            "max": np.where(scored, nll, -np.inf).max(axis=1),
-            "mean_post": mean_post, "n_scored": scored.sum(axis=1).astype(np.int64)}
+def score_batches(model: Any, blinder: Blinder, sched: Schedule, todo: Sequence[int], *,
+                  cache: ScoreCache | None = None, device: str | None = None, bf16: bool = False,
+                  progress: Callable[[int], None] | None = None) -> tuple[dict[str, np.ndarray], int]:
+    """Surprise ``(T,)`` per clip id of batches ``todo``, and how many clips were computed (not cached)."""
+    name = str(getattr(model, "name", type(model).__name__))
+    out: dict[str, np.ndarray] = {}
+    computed = 0
+    for i in todo:
+        ids = sched.batches[i]
+        keys = tuple(blinder.key[c] for c in ids)
+        nll = cache.get(i, keys) if cache is not None else None
+        if nll is None:
+            batch = blinder.batch(ids)
+            with precision(device, bf16):
+                raw = _call(model, name, batch, blinder, len(out), cache)
+            nll = check_nll(raw, batch.shape, name, tuple(blinder.describe(k) for k in keys))
+            if cache is not None:
+                cache.put(i, keys, nll)
+            computed += len(ids)
+        out.update(zip(ids, nll, strict=True))
+        if progress:
+            progress(len(ids))
+    return out, computed
 
 
-def _parquet_bytes(df: pd.DataFrame) -> bytes:
-    buf = io.BytesIO()
-    df.to_parquet(buf, index=False, engine="pyarrow", compression="zstd")
-    return buf.getvalue()
+def _merge(sched: Schedule, blinder: Blinder, cache: ScoreCache) -> dict[str, np.ndarray]:
+    """Rank 0: every batch of every rank, read back from the shared cache by clip key."""
+    out: dict[str, np.ndarray] = {}
+    for i, ids in enumerate(sched.batches):
+        nll = cache.get(i, tuple(blinder.key[c] for c in ids))
+        if nll is None:
+            raise RunError(f"batch {i} of the schedule is missing from {cache.dir} after every rank "
+                           "finished; is the cache directory shared by all ranks (--cache on shared storage)?")
+        out.update(zip(ids, nll, strict=True))
+    return out
 
 
 def score_probe_set(model: Any, probes: ProbeSet | str | Path, out: Path, *, model_ref: str | None = None,
                     model_args: dict[str, Any] | None = None, checkpoint: Path | None = None,
-                    batch_size: int = 16, overwrite: bool = False,
-                    progress: Callable[[int], None] | None = None) -> dict[str, Any]:
+                    batch_size: int = 16, seed: int = 0, check: bool = False,
+                    cache_root: Path | None = None, device: str | None = None, bf16: bool = False,
+                    overwrite: bool = False, ranks: Ranks = SINGLE,
+                    progress: Callable[[int], None] | None = None) -> dict[str, Any] | None:
     """Run ``model.frame_nll`` over every clip of ``probes`` and write a run directory to ``out``.
 
     Args:
@@ -104,51 +111,64 @@ def score_probe_set(model: Any, probes: ProbeSet | str | Path, out: Path, *, mod
         probes: a probe set or its directory.
         out: the run directory, written atomically (must be new or empty unless ``overwrite``).
         model_ref, model_args, checkpoint: how the model was made, recorded in ``run.json``.
-        batch_size: clips per ``frame_nll`` call.
+        batch_size: at most this many clips per ``frame_nll`` call.
+        seed: seeds the clip order and the common random numbers (``batch.seeds``).
+        check: run ``check_model`` on a small sample first (``voe score`` does unless --no-check).
+        cache_root: keep computed batches under this directory and resume from them; the entry
+            is removed once the run is written. ``None``: no cache (unless sharded).
+        device, bf16: see ``voe.scoring.device``.
+        ranks: this process's place in a sharded launch (``voe.scoring.distributed.from_env``).
         progress: called with the number of clips done after each batch.
 
     Returns:
-        The ``run.json`` contents.
+        The ``run.json`` contents (``None`` on ranks other than 0, which write nothing).
     """
+    out = Path(out)
+    if out.exists() and (not out.is_dir() or any(out.iterdir())) and not overwrite:
+        raise VoeError(f"output {out} already exists and is not an empty directory (pass --overwrite)")
     ps = probes if isinstance(probes, ProbeSet) else load_probe_set(probes)
-    if batch_size < 1:
-        raise ValueError("batch_size must be >= 1")
     name = str(getattr(model, "name", type(model).__name__))
-    index = ps.index.sort_values("row").reset_index(drop=True)
-    ids = [str(c) for c in index["clip_id"]]
+    kind = surprise_kind(model)
+    ref = model_ref or f"{type(model).__module__}:{type(model).__qualname__}"
+    ck_sha = sha256_path(Path(checkpoint)) if checkpoint else None
+    sched = plan(ps.index, batch_size, seed)
+    blinder = Blinder(ps, seed)
+    place(model, rank_device(device))
+    fields = {"model": ref, "args": dict(model_args or {}), "name": name, "checkpoint_sha256": ck_sha,
+              "manifest_sha256": ps.manifest_sha256, "batch_size": batch_size, "seed": seed,
+              "surprise_kind": kind, "device": device, "bf16": bf16}
+    if cache_root is None and ranks.world > 1:
+        raise VoeError("sharded scoring needs a cache directory shared by every rank (--cache DIR)")
+    cache = ScoreCache(cache_root, fields) if cache_root is not None else None
+    if check:
+        check_sample(model, blinder, sched)
     t0 = time.perf_counter()
-    chunks = []
-    for start in range(0, len(ids), batch_size):
-        batch = ps.batch(ids[start:start + batch_size])
-        chunks.append(check_nll(model.frame_nll(batch), batch.shape, name, batch.clip_ids))
-        if progress:
-            progress(len(batch))
+    mine, computed = score_batches(model, blinder, sched, sched.for_rank(ranks.rank, ranks.world),
+                                   cache=cache, device=device, bf16=bf16, progress=progress)
+    computed = ranks.total(computed)  # a collective: every rank takes part
     wall = time.perf_counter() - t0
-    nll = np.concatenate(chunks, axis=0)  # (N, T)
-    N, T = nll.shape
-
-    clips = index[[c for c in CLIP_COLUMNS if c in index.columns]].copy()
-    for key, val in clip_summaries(nll, index["onset_frame"].to_numpy()).items():
-        clips[key] = val
-    frames = pd.DataFrame({"clip_id": np.repeat(np.asarray(ids, dtype=object), T),
-                           "t": np.tile(np.arange(T, dtype=np.int32), N),
-                           "nll": nll.reshape(-1)})
+    if ranks.rank != 0:
+        return None
+    by_id = mine if ranks.world == 1 else _merge(sched, blinder, cache)
+    index, nll = assemble(ps.index, by_id)
     meta = {
-        "schema_version": RUN_SCHEMA_VERSION, "voe_version": __version__,
-        "model": {"ref": model_ref or f"{type(model).__module__}:{type(model).__qualname__}",
-                  "class": f"{type(model).__module__}:{type(model).__qualname__}",
+        "model": {"ref": ref, "class": f"{type(model).__module__}:{type(model).__qualname__}",
                   "args": dict(model_args or {}), "name": name,
                   "observation": str(getattr(model, "observation", "")),
-                  "checkpoint": str(checkpoint) if checkpoint else None,
-                  "checkpoint_sha256": sha256_path(Path(checkpoint)) if checkpoint else None},
+                  "checkpoint": str(checkpoint) if checkpoint else None, "checkpoint_sha256": ck_sha},
+        "surprise_kind": kind,
         "probes": {"path": str(Path(ps.path).resolve()), "manifest_sha256": ps.manifest_sha256,
-                   "concepts": list(ps.manifest.get("concepts", [])), "n_clips": N, "n_frames": T},
-        "batch_size": batch_size, "wall_time_s": round(wall, 3),
-        "created_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
-        "versions": package_versions(),
+                   "concepts": list(ps.manifest.get("concepts", []))},
+        "batch_size": batch_size, "device": device, "bf16": bool(bf16),
+        "order": {"seed": seed, "n_batches": len(sched.batches), "n_groups": sched.n_groups,
+                  "rule": "matched sets shuffled into groups of batch_size; batch j of a group holds "
+                          "the j-th clip (shuffled) of each set (voe.scoring.order)"},
+        "common_random_numbers": {"seed": seed, "rule": CRN_RULE},
+        "check": "passed" if check else "skipped",
+        "launcher": ranks.describe(), "clips_from_cache": len(index) - computed,
+        "wall_time_s": round(wall, 3),
     }
-    with atomic_dir(Path(out), overwrite=overwrite) as tmp:
-        (tmp / "frames.parquet").write_bytes(_parquet_bytes(frames))
-        (tmp / "clips.parquet").write_bytes(_parquet_bytes(clips))
-        (tmp / "run.json").write_text(json.dumps(meta, indent=1, sort_keys=True, default=str) + "\n")
+    meta = write_run(out, index, nll, meta, overwrite=overwrite)
+    if cache is not None:
+        cache.clear()
     return meta

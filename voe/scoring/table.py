@@ -11,7 +11,7 @@ from collections.abc import Sequence
 import numpy as np
 import pandas as pd
 
-from voe.scoring.metrics import accuracy, auroc, score_set
+from voe.scoring.metrics import accuracy, auroc, score_set, tie_atol
 from voe.scoring.runs import Run
 from voe.scoring.stats import bootstrap_ci, holm, permutation_pvalue
 from voe.scoring.verdict import verdict
@@ -28,11 +28,14 @@ def set_table(run: Run) -> pd.DataFrame:
     clips = run.clips
     keys_ = [*SET_KEYS, *(k for k in OPTIONAL_SET_KEYS if k in clips.columns)]
     rows = []
+    atol = tie_atol(run.surprise_kind)
     for keys, grp in clips.groupby(keys_, sort=True, dropna=False):
-        sc = score_set(run.nll[grp.index.to_numpy()], (grp["role"] == "impossible").to_numpy())
+        sc = score_set(run.nll[grp.index.to_numpy()], (grp["role"] == "impossible").to_numpy(), atol)
         rows.append({"model": run.label, **dict(zip(keys_, keys, strict=True)),
                      "s_imp": sc.s_imp, "s_pos": sc.s_pos, "accuracy": sc.accuracy,
-                     "accuracy_max": sc.accuracy_max, "relative": sc.relative, "n_frames": sc.n_frames})
+                     "accuracy_max": sc.accuracy_max, "n_frames": sc.n_frames,
+                     # a ratio of sums means something only for non-negative calibrated nats
+                     "relative": sc.relative if run.surprise_kind == "nll" else float("nan")})
     out = pd.DataFrame(rows)
     dup = out["set_id"].duplicated()
     if dup.any():
@@ -62,7 +65,8 @@ def concept_table(runs: Sequence[Run], n_boot: int = 10_000, seed: int = 0) -> p
                          "p_value": permutation_pvalue(grp["accuracy"].to_numpy(), seed=seed),
                          "relative_surprise": float(np.nanmean(grp["relative"])) if grp["relative"].notna().any() else float("nan"),
                          "pair_acc_max": accuracy(grp["accuracy_max"].to_numpy()),
-                         "auroc": auroc(clips["sum"].to_numpy(), (clips["role"] == "impossible").to_numpy())})
+                         "auroc": auroc(clips["sum"].to_numpy(), (clips["role"] == "impossible").to_numpy(),
+                                        tie_atol(run.surprise_kind))})
         adj = holm(np.array([r["p_value"] for r in rows[start:]]))
         for r, p in zip(rows[start:], adj, strict=True):
             r["p_holm"] = float(p)

@@ -10,7 +10,6 @@ set of the same seed.
 from __future__ import annotations
 
 import json
-import multiprocessing as mp
 from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
@@ -20,6 +19,7 @@ from voe.concepts.base import stable_seed
 from voe.concepts.generate import manifest_meta
 from voe.errors import UnknownNameError, VoeError
 from voe.io.probeset import ClipRecord, write_probe_set
+from voe.parallel import parallel_map
 from voe.sim.rollout import simulate
 from voe.sim.scene import Scene, SimConfig
 from voe.sim.world import World
@@ -95,18 +95,7 @@ def generate_world(out: Path, n: int, seed: int, cfg: SimConfig, counterfactual:
     check_counterfactual(counterfactual)
     if n < 1:
         raise VoeError(f"--n must be at least 1, got {n}")
-    work = [(i, seed, cfg, counterfactual) for i in range(n)]
-    records: list[ClipRecord] = []
-    if jobs <= 1:
-        for rec in map(_make, work):
-            records.append(rec)
-            if progress:
-                progress(1)
-    else:
-        with mp.get_context("fork").Pool(jobs) as pool:
-            for rec in pool.imap(_make, work, chunksize=4):
-                records.append(rec)
-                if progress:
-                    progress(1)
+    work = ((i, seed, cfg, counterfactual) for i in range(n))
+    records = parallel_map(_make, work, jobs, progress)
     meta = manifest_meta("train", [], seed, cfg, {"counterfactual": counterfactual, "n": n})
     return write_probe_set(out, records, meta, overwrite=overwrite)

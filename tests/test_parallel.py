@@ -1,0 +1,106 @@
+"""``voe.parallel.parallel_map`` and ``voe.progress``: order, laziness, errors, layering."""
+
+from __future__ import annotations
+
+import ast
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+from voe.errors import ConceptError
+from voe.parallel import parallel_map
+from voe.progress import no_progress, progress
+
+VOE = Path(__file__).resolve().parents[1] / "voe"
+
+
+def _slow_square(x: int) -> int:
+    time.sleep(0.02 * (x % 3 == 0))  # every third item finishes last: completion order != input order
+    return x * x
+
+
+def _fail_on_5(x: int) -> int:
+    if x == 5:
+        raise ConceptError(f"item {x} is bad")
+    return x
+
+
+@pytest.mark.parametrize("jobs", [1, 2, 3])
+def test_results_in_input_order_with_progress(jobs):
+    ticks = []
+    out = list(parallel_map(_slow_square, range(12), jobs, progress=ticks.append))
+    assert out == [x * x for x in range(12)]
+    assert ticks == [1] * 12
+
+
+def test_items_are_consumed_lazily():
+    pulled = []
+
+    def items():
+        for i in range(100):
+            pulled.append(i)
+            yield i
+
+    it = parallel_map(_slow_square, items(), jobs=2, ahead=2)
+    assert next(it) == 0
+    assert len(pulled) <= 2 * 2 + 1  # the window, not the whole input
+    it.close()
+    serial = parallel_map(_slow_square, items(), jobs=1)
+    pulled.clear()
+    assert next(serial) == 0 and pulled == [0]
+
+
+@pytest.mark.parametrize("jobs", [1, 2])
+def test_worker_error_keeps_its_type_and_names_the_item(jobs):
+    with pytest.raises(ConceptError, match="item 5 is bad") as info:
+        list(parallel_map(_fail_on_5, range(8), jobs))
+    notes = "".join(getattr(info.value, "__notes__", []))
+    assert "_fail_on_5 failed on item 5" in notes
+    if jobs > 1:  # the worker's traceback travels as the cause
+        assert "_fail_on_5" in str(info.value.__cause__)
+
+
+def test_forked_workers_inherit_closures_over_unpicklable_state():
+    lock = threading.Lock()  # cannot be pickled
+
+    def with_lock(x: int) -> int:
+        with lock:
+            return x + 1
+
+    assert list(parallel_map(with_lock, [1, 2, 3], jobs=2, start_method="fork")) == [2, 3, 4]
+
+
+def test_progress_helper(capsys):
+    with progress(3, "things", "thing") as tick:
+        tick(2)
+        tick(1)
+    err = capsys.readouterr().err
+    assert "things" in err and "3/3" in err
+    with progress(3, "quiet", enabled=False) as tick:
+        assert tick is no_progress
+    assert "quiet" not in capsys.readouterr().err
+
+
+def test_nothing_outside_cli_imports_cli():
+    offenders = []
+    for path in VOE.rglob("*.py"):
+        if path.relative_to(VOE).parts[0] in ("cli", "__main__.py"):  # the CLI and its entry point
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            names = []
+            if isinstance(node, ast.ImportFrom) and node.module:
+                names = [node.module] + [f"{node.module}.{a.name}" for a in node.names]
+            elif isinstance(node, ast.Import):
+                names = [a.name for a in node.names]
+            if any(n == "voe.cli" or n.startswith("voe.cli.") for n in names):
+                offenders.append(f"{path.relative_to(VOE.parent)}:{node.lineno}")
+    assert not offenders, f"voe.cli imported outside voe/cli: {offenders}"
+
+
+def test_no_private_pool_loops_left():
+    """One ``parallel_map``: no other module builds its own process pool."""
+    pools = [str(p.relative_to(VOE.parent)) for p in VOE.rglob("*.py")
+             if p.name != "parallel.py" and any(s in p.read_text() for s in ("ProcessPoolExecutor", ".Pool("))]
+    assert not pools, pools

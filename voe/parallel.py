@@ -1,0 +1,121 @@
+"""The one "serial or a process pool" loop of voe: ``parallel_map``.
+
+Why one: probe generation, world generation, validity controls, the gap finder and its bench,
+and the demo all map a deterministic function over independent items. Each used to carry its own
+copy of the loop (``Pool.imap`` here, ``as_completed`` there), with different ordering, error and
+memory behaviour. Here the contract is written once:
+
+* results come back **in input order**, so whatever ``jobs`` is the caller sees the same
+  sequence and writes byte-identical output;
+* it is a **lazy iterator** that keeps at most a few items per worker in flight, so a caller that
+  streams results to disk (world generation, 100k clips) holds a bounded number of them;
+* a worker's exception is **re-raised in the caller with its type**, the worker's traceback as
+  its cause and a note naming the item, so a ``VoeError`` still ends as one line on the CLI;
+* with the ``fork`` start method (Linux, macOS on request) ``fn`` is inherited by the workers,
+  not pickled, so it may be a closure over unpicklable state (pymunk spaces in the gap finder).
+  Items and results are pickled and should be small.
+"""
+
+from __future__ import annotations
+
+import itertools
+import multiprocessing as mp
+from collections import deque
+from collections.abc import Callable, Iterable, Iterator
+from concurrent.futures import Future, ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
+from typing import Any, TypeVar
+
+from voe.errors import VoeError
+
+T = TypeVar("T")
+R = TypeVar("R")
+
+_FNS: dict[int, Callable[[Any], Any]] = {}  # token -> fn, inherited by forked workers
+_TOKENS = itertools.count()
+
+
+def _call_forked(token: int, item: Any) -> Any:
+    return _FNS[token](item)
+
+
+def _note(exc: BaseException, index: int, item: Any, fn: Callable) -> None:
+    text = repr(item)
+    text = text if len(text) <= 200 else text[:197] + "..."
+    exc.add_note(f"(parallel_map: {getattr(fn, '__qualname__', fn)!s} failed on item {index}: {text})")
+
+
+def parallel_map(fn: Callable[[T], R], items: Iterable[T], jobs: int = 1,
+                 progress: Callable[[int], None] | None = None, ahead: int = 4,
+                 start_method: str | None = None) -> Iterator[R]:
+    """``map(fn, items)`` in ``jobs`` processes, yielding results in input order.
+
+    Args:
+        fn: a deterministic function of one item. With ``fork`` it may be any callable; with
+            ``spawn`` it must be importable (module level).
+        items: consumed lazily; at most ``ahead * jobs`` of them are submitted beyond the result
+            the caller is waiting for.
+        jobs: processes; 1 (or less) runs in this process, with no pool at all.
+        progress: called with 1 after each result is yielded (e.g. ``voe.progress.progress``'s tick).
+        ahead: items in flight per worker (bounds memory when results are large).
+        start_method: ``fork`` (the default where available) or ``spawn``; a method this
+            platform lacks runs serially (a closure cannot be sent to spawned workers).
+
+    Raises:
+        The first failing item's exception (its own type), after the pool is shut down.
+    """
+    if hasattr(items, "__len__"):
+        jobs = min(jobs, len(items))  # no idle workers
+    method = start_method or ("fork" if "fork" in mp.get_all_start_methods() else "spawn")
+    if jobs <= 1 or method not in mp.get_all_start_methods():  # same results, by contract
+        yield from _serial(fn, items, progress)
+        return
+    token = next(_TOKENS)
+    forked = method == "fork"
+    if forked:
+        _FNS[token] = fn  # before the pool exists, so every forked worker has it
+    pending: deque[tuple[int, Any, Future]] = deque()
+    it = iter(enumerate(items))
+    pool = ProcessPoolExecutor(max_workers=jobs, mp_context=mp.get_context(method))
+    try:
+        def submit() -> bool:
+            nxt = next(it, None)
+            if nxt is None:
+                return False
+            i, item = nxt
+            fut = pool.submit(_call_forked, token, item) if forked else pool.submit(fn, item)
+            pending.append((i, item, fut))
+            return True
+
+        for _ in range(max(1, ahead) * jobs):
+            if not submit():
+                break
+        while pending:
+            i, item, fut = pending.popleft()
+            try:
+                result = fut.result()
+            except BrokenProcessPool as exc:
+                raise VoeError(f"a worker process died while running {getattr(fn, '__qualname__', fn)} on "
+                               f"item {i} (out of memory or killed?); retry with --jobs 1 to see why") from exc
+            except BaseException as exc:
+                _note(exc, i, item, fn)
+                raise
+            submit()
+            yield result
+            if progress:
+                progress(1)
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
+        _FNS.pop(token, None)
+
+
+def _serial(fn: Callable[[T], R], items: Iterable[T], progress: Callable[[int], None] | None) -> Iterator[R]:
+    for i, item in enumerate(items):
+        try:
+            result = fn(item)
+        except Exception as exc:
+            _note(exc, i, item, fn)
+            raise
+        yield result
+        if progress:
+            progress(1)
