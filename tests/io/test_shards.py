@@ -97,6 +97,14 @@ def test_refusals_are_one_line(tmp_path):
     _tamper(tmp_path / "s", shards=[{"path": "shards/00000", "n_clips": 5}])
     with pytest.raises(ProbeSetError, match="holds .* clips, the manifest says 5"):
         load_probe_set(tmp_path / "s").get(["c0000"])
+    _tamper(tmp_path / "s", shards=[{"path": "shards/00000", "n_clips": 3}])
+    f = tmp_path / "s/shards/00000/frames.npy"
+    f.write_bytes(f.read_bytes()[:-10])
+    with pytest.raises(ProbeSetError, match="frames.npy is truncated"):
+        load_probe_set(tmp_path / "s").get(["c0002"])
+    np.save(tmp_path / "s/shards/00000/states.npy", np.array([[None]] * 3, dtype=object), allow_pickle=True)
+    with pytest.raises(ProbeSetError, match="not a C-ordered plain array"):
+        load_probe_set(tmp_path / "s").get(["c0000"])
     with pytest.raises(ProbeSetError, match="empty set"):
         write_probe_set(tmp_path / "e", iter(()), META)
     assert not (tmp_path / "e").exists()

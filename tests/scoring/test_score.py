@@ -37,7 +37,8 @@ def test_run_files(fake_runs, synth_probes):
     meta = json.loads((fake_runs["blind"] / "run.json").read_text())
     assert meta["model"]["name"] == "blind" and meta["model"]["ref"] == "voe.testing:BlindModel"
     assert meta["probes"]["manifest_sha256"] == ps.manifest_sha256
-    assert meta["probes"]["path"] == str(synth_probes.resolve())
+    assert not meta["probes"]["path"].startswith("/")  # relative to the run: portable, no machine layout
+    assert (fake_runs["blind"] / meta["probes"]["path"]).resolve() == synth_probes.resolve()
     assert "numpy" in meta["versions"] and meta["wall_time_s"] >= 0 and meta["voe_version"]
 
 

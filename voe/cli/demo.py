@@ -6,13 +6,17 @@ from pathlib import Path
 
 import typer
 
+from voe.cli.common import claims_output
+
 
 def register(app: typer.Typer) -> None:
     @app.command()
+    @claims_output("dir", replaces=("report.md",))
     def demo(
         out: Path = typer.Option(Path("reports/demo"), "--out", help="Report directory."),
-        work: Path = typer.Option(Path("voe-work/demo"), "--work",
-                                  help="Where probes, worlds, checkpoints and runs go (reused on rerun)."),
+        work: Path = typer.Option(None, "--work",
+                                  help="Where probes, worlds, checkpoints and runs go, reused on rerun "
+                                       "(default: $XDG_CACHE_HOME/voe/demo-..., printed)."),
         quick: bool = typer.Option(False, "--quick", help="A tiny, fast version (smoke test; numbers "
                                                           "are not meaningful)."),
         validity: bool = typer.Option(True, "--validity/--no-validity",
@@ -22,6 +26,8 @@ def register(app: typer.Typer) -> None:
         """Generate probes and training worlds, train the built-in models, score every model and
         write the comparison report (about 15 minutes on 2 CPU cores)."""
         from voe.demo import DemoConfig, run_demo
+        from voe.io.lock import output_lock
+        from voe.io.outputs import scratch_dir
 
         if quick:
             cfg = DemoConfig(per_concept=4, world_n=60, cf_world_n=40, calib_n=30, size=32, seed=seed, validity=validity,
@@ -29,6 +35,9 @@ def register(app: typer.Typer) -> None:
                                       "cf-gravity_off": 0.1, "cf-pass_through": 0.1})
         else:
             cfg = DemoConfig(seed=seed, validity=validity)
-        times = run_demo(out, work, cfg, say=typer.echo)
+        work = work or scratch_dir(f"demo{'-quick' if quick else ''}-seed{seed}")
+        typer.echo(f"scratch directory (reused on rerun): {work}")
+        with output_lock(work):
+            times = run_demo(out, work, cfg, say=typer.echo)
         typer.echo("stage times (s): " + ", ".join(f"{k} {v:.0f}" for k, v in times.items()))
         typer.echo(f"report: {out / 'report.md'} and {out / 'report.html'}")

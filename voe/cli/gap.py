@@ -12,6 +12,8 @@ from pathlib import Path
 import typer
 from typer.core import TyperGroup
 
+from voe.cli.common import claims_output
+
 
 class _DefaultGroup(TyperGroup):
     def parse_args(self, ctx, args):  # noqa: ANN001 - click signature
@@ -25,6 +27,7 @@ app = typer.Typer(cls=_DefaultGroup, help="Find what a nominal pymunk scene leav
 
 
 @app.command("diagnose")
+@claims_output("dir", replaces=("gap.json",))
 def diagnose_cmd(
     scene: Path = typer.Argument(..., help="scene.json"),
     recordings: Path = typer.Argument(..., help="recordings (.csv or .parquet)"),

@@ -9,6 +9,7 @@ in its own file and keeps heavy imports (torch, matplotlib, pymunk) inside its f
 from __future__ import annotations
 
 import importlib
+import signal
 import sys
 
 import typer
@@ -52,13 +53,38 @@ for _mod, _name in _GROUPS:
 def main() -> None:
     """Run the CLI; turn ``VoeError`` into ``voe: error: ...`` and its exit code.
 
-    Usage errors (bad options) are handled by typer itself and exit with 2.
+    Usage errors (bad options) are handled by typer itself and exit with 2. SIGTERM is turned
+    into an exception like Ctrl-C, so both unwind the same way: temporary outputs are removed,
+    locks released, and nothing half-written is left under a final name. Either ends in one
+    ``voe: interrupted`` line and exit code 130.
     """
+    signal.signal(signal.SIGTERM, _interrupt)
+    if signal.getsignal(signal.SIGINT) is not signal.SIG_IGN:  # a background job keeps ignoring it
+        signal.signal(signal.SIGINT, _interrupt)
     try:
         app()
     except VoeError as exc:
         typer.echo(f"voe: error: {exc}", err=True)
         sys.exit(exc.exit_code)
+    except (KeyboardInterrupt, SystemExit) as exc:  # click turns Ctrl-C into "Aborted!" and exit 1
+        if not _INTERRUPTED or isinstance(exc, SystemExit) and exc.code == 0:
+            raise
+        typer.echo(f"voe: interrupted by {_INTERRUPTED[0]}; nothing incomplete was kept under a final "
+                   "name (rerun to resume or start again)", err=True)
+        sys.exit(130)
+
+
+_INTERRUPTED: list[str] = []
+
+
+class Interrupted(KeyboardInterrupt):
+    """SIGINT or SIGTERM, raised where the main thread is so that cleanup runs."""
+
+
+def _interrupt(signum: int, frame: object) -> None:
+    signal.signal(signum, signal.SIG_DFL)  # a second signal ends the process at once
+    _INTERRUPTED.append(signal.Signals(signum).name)
+    raise Interrupted()
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import typer
 
+from voe.cli.common import claims_output
 from voe.errors import ProbeSetError
 
 app = typer.Typer(help="Generate, validate and look at probe sets.", no_args_is_help=True)
@@ -27,6 +28,7 @@ def list_concepts() -> None:
 
 
 @app.command()
+@claims_output("dir")
 def generate(
     out: Path = typer.Option(..., "--out", help="Directory to write (must be new or empty)."),
     suite: str = typer.Option("core", help="Suite of concepts."),
@@ -69,15 +71,17 @@ def validate(
         for p in rep.problems[:20]:
             typer.echo(f"problem: {p}")
         raise ProbeSetError(f"{path}: {len(rep.problems)} problem(s), first: {rep.problems[0]}")
-    typer.echo(f"{path}: valid ({len(rep.table) if rep.table is not None else 0} concepts)")
+    typer.echo(f"{path}: valid ({rep.table['concept'].nunique() if rep.table is not None else 0} concepts)")
 
 
 @app.command()
+@claims_output("file", (".png", ".svg", ".gif"))
 def show(
     path: Path = typer.Argument(..., help="Probe-set directory."),
     set_id: str = typer.Option(..., "--set", help="Matched-set id, e.g. permanence-0003."),
     out: Path = typer.Option(..., "--out", help="Output .png (filmstrip) or .gif (animation)."),
-    every: int = typer.Option(2, help="Show every N-th frame in the filmstrip."),
+    every: int = typer.Option(2, min=1, help="Show every N-th frame in the filmstrip."),
+    overwrite: bool = typer.Option(False, help="Replace an existing output file."),
 ) -> None:
     """Draw a matched set as a filmstrip with the onset marked."""
     import difflib

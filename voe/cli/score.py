@@ -6,6 +6,8 @@ from pathlib import Path
 
 import typer
 
+from voe.cli.common import claims_output
+
 
 def _forward(probes: Path, model: str | None, out: Path, checkpoint: Path | None, model_arg: list[str] | None,
              batch_size: int, seed: int, no_check: bool, cache: Path | None, device: str | None,
@@ -45,6 +47,7 @@ def register(app: typer.Typer) -> None:
     """Add the top-level ``score`` command to ``app``."""
 
     @app.command("score")
+    @claims_output("dir")
     def score(
         probes: Path = typer.Option(..., "--probes", help="Probe-set directory."),
         out: Path = typer.Option(..., "--out", help="Run directory to write (must be new or empty)."),

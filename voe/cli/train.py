@@ -6,7 +6,10 @@ from pathlib import Path
 
 import typer
 
+from voe.cli.common import claims_output
 
+
+@claims_output("dir")
 def train(
     model: str = typer.Argument(..., help="Registered model name (see `voe model list`)."),
     data: Path = typer.Option(..., "--data", help="Training set from `voe world generate`."),
@@ -17,6 +20,7 @@ def train(
     seed: int = typer.Option(0, "--seed", help="Seed of initialisation, split and batches."),
     val_frac: float = typer.Option(0.1, "--val-frac", min=0.0, max=0.9, help="Held-out fraction."),
     model_arg: list[str] = typer.Option(None, "--model-arg", help="key=value (repeatable)."),
+    overwrite: bool = typer.Option(False, help="Replace an existing checkpoint directory."),
 ) -> None:
     """Train MODEL on a training set; shows progress and validation NLL (nats per frame)."""
     from voe.cli.common import parse_kv
@@ -30,6 +34,11 @@ def train(
         raise VoeError(f"--device must be cpu or cuda, got '{device}'")
     if steps is None and minutes is None:
         minutes = 3.0
+    from voe.io.probeset import load_probe_set
+    from voe.models import MODELS
+
+    MODELS.resolve(model)  # an unknown name fails (with did-you-mean) before the data is read
+    load_probe_set(data)  # a missing or malformed training set fails before any work
     cfg = TrainConfig(steps=steps, minutes=minutes, device=device, seed=seed, val_frac=val_frac)
     from tqdm import tqdm
 

@@ -6,10 +6,13 @@ from pathlib import Path
 
 import typer
 
+from voe.cli.common import claims_output
+
 app = typer.Typer(help="Generate training worlds.", no_args_is_help=True)
 
 
 @app.command()
+@claims_output("dir")
 def generate(
     out: Path = typer.Option(..., "--out", help="Directory to write (must be new or empty)."),
     n: int = typer.Option(..., "--n", min=1, help="Number of clips."),

@@ -19,7 +19,7 @@ User file (``--controls my_controls.yaml``)::
       - name: my-sim-without-friction
         model: mypkg.sims:NoFriction          # or a registered model name
         args: {noise: 0.1}                     # optional, as --model-arg
-        checkpoint: runs/ckpt                  # optional
+        checkpoint: runs/ckpt                  # optional, relative to this file, inside its folder
         should_fail: [solidity]
         should_pass: [permanence, gravity]
         default: pass                          # for unlisted concepts (pass|fail|chance|not-learned|none)
@@ -36,6 +36,7 @@ from typing import Any
 import yaml
 
 from voe.errors import VoeError
+from voe.io.paths import inside
 
 EXPECTATIONS = ("pass", "fail", "chance", "not-learned", "none")
 #: Families whose controls know nothing: off chance on a probe set means the probe gives its
@@ -131,7 +132,13 @@ def load_user_controls(path: Path) -> list[Control]:
         if family not in ("user", *KNOWLEDGE_FREE, *PHYSICS_POOR):
             raise VoeError(f"{path}: family '{family}' of control '{e['name']}' is not one of "
                            f"{('user', *KNOWLEDGE_FREE, *PHYSICS_POOR)}")
+        ckpt = e.get("checkpoint")
+        if ckpt is not None:  # relative to the YAML file, and never outside its directory
+            ckpt = str(inside(path.parent, ckpt, path))
+        args = e.get("args") or {}
+        if not isinstance(args, dict):
+            raise VoeError(f"{path}: 'args' of control '{e['name']}' must be a mapping")
         out.append(Control(name=str(e["name"]), family=family, model=str(e["model"]),
-                           args=dict(e.get("args") or {}), checkpoint=e.get("checkpoint"),
+                           args=dict(args), checkpoint=ckpt,
                            expect=expect, default=default, why=str(e.get("why", "declared by the user"))))
     return out

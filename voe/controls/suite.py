@@ -59,8 +59,12 @@ def validate_suite(out: Path, work: Path, probes: Path | None = None, world: Pat
                    user_controls: Sequence[Control] = (), families: tuple[str, ...] | None = None,
                    per_concept: int | None = None, world_n: int = 600, seed: int = 0, size: int = 64,
                    train_minutes: float = 3.0, checkpoints: dict[str, str] | None = None,
-                   say: Callable[[str], None] = print, jobs: int = 1) -> pd.DataFrame:
-    """Run built-in and user controls on a probe set and write the validity report to ``out``."""
+                   say: Callable[[str], None] = print, jobs: int = 1, show_paths: bool = False) -> pd.DataFrame:
+    """Run built-in and user controls on a probe set and write the validity report to ``out``.
+
+    Provenance names the probe set and training world by manifest sha256 and by a path relative to
+    ``out`` where one exists; absolute paths only with ``show_paths``.
+    """
     from voe.io.probeset import load_probe_set
     from voe.io.provenance import package_versions
     from voe.report.validity import write_validity_report
@@ -90,8 +94,11 @@ def validate_suite(out: Path, work: Path, probes: Path | None = None, world: Pat
     for r, c in zip(runs, controls, strict=True):
         r.label = c.name
     matrix = specificity_matrix(controls, runs, balance=set_balance(ps))
-    provenance = {"probes": str(Path(probes).resolve()), "probes_manifest_sha256": ps.manifest_sha256,
-                  "world": str(Path(world).resolve()),
+    from voe.io.paths import relative_ref
+
+    ref = (lambda p: str(Path(p).resolve())) if show_paths else (lambda p: relative_ref(p, out))
+    provenance = {"probes": ref(probes), "probes_manifest_sha256": ps.manifest_sha256,
+                  "world": ref(world),
                   "world_manifest_sha256": ws.manifest_sha256, "seed": seed,
                   "controls": [c.name for c in controls],
                   "versions": package_versions()}

@@ -32,6 +32,7 @@ import pandas as pd
 from voe.errors import ProbeSetError
 from voe.io.atomic import atomic_dir
 from voe.io.batch import Batch
+from voe.io.paths import inside
 from voe.io.provenance import sha256_bytes, sha256_file
 from voe.io.shards import ShardedArray, ShardWriter, check_shard_paths
 
@@ -113,16 +114,25 @@ class ProbeSet:
         mpath = self.path / "manifest.json"
         if not mpath.exists():
             raise ProbeSetError(f"{mpath} is missing; is {self.path} a voe probe set?")
+        inside(self.path, "manifest.json", self.path, ProbeSetError)  # not a symlink leading out
         try:
             self.manifest: dict[str, Any] = json.loads(mpath.read_text())
-        except json.JSONDecodeError as exc:
+        except (json.JSONDecodeError, UnicodeDecodeError) as exc:
             raise ProbeSetError(f"{mpath} is not valid JSON: {exc}") from exc
+        if not isinstance(self.manifest, dict):
+            raise ProbeSetError(f"{mpath} is not a JSON object")
         version = self.manifest.get("schema_version")
         if version not in READABLE_SCHEMAS:
             raise ProbeSetError(f"{mpath}: schema_version {version!r} is not one of {READABLE_SCHEMAS}; "
                                 f"regenerate the set with this voe (or upgrade voe)")
+        files = self.manifest.get("files", {})
+        if not isinstance(files, dict):
+            raise ProbeSetError(f"{mpath}: 'files' must map file names to sha256")
+        for name in files:  # every listed file stays inside the set, symlinks included
+            inside(self.path, name, mpath, ProbeSetError)
+        ipath = inside(self.path, "index.parquet", mpath, ProbeSetError)
         try:
-            self.index: pd.DataFrame = pd.read_parquet(self.path / "index.parquet")
+            self.index: pd.DataFrame = pd.read_parquet(ipath)
         except Exception as exc:  # pyarrow raises several types for corrupt files
             raise ProbeSetError(f"{self.path / 'index.parquet'} cannot be read: {exc}") from exc
         missing = [c for c in INDEX_COLUMNS if c not in self.index.columns]

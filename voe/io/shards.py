@@ -3,8 +3,8 @@
 Why: a set used to be one stacked ``.npy`` per array, built in memory before writing, so
 generating 4,000 clips peaked at 2.1 GB and 100k clips would need about 50 GB. Here clips go
 into a preallocated shard buffer as they are made; a full shard is written, hashed and dropped.
-Readers open a shard's file memory-mapped, copy the rows asked for, and keep only the last few
-shards mapped, so neither side's memory grows with the number of clips.
+Readers read just the rows asked for from a shard's file (after checking its ``.npy`` header:
+no pickle, no object arrays), so neither side's memory grows with the number of clips.
 
 Layout (inside a set's directory)::
 
@@ -21,19 +21,18 @@ number of worker processes.
 from __future__ import annotations
 
 import re
-from collections import OrderedDict
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from voe.errors import ProbeSetError
+from voe.io.paths import inside
 from voe.io.provenance import sha256_file
 
 SHARD_BYTES = 64 << 20  # a shard's four files together stay under about 64 MiB
 MAX_SHARD_CLIPS = 256
 SHARD_DIR = re.compile(r"^shards/\d{5}$")  # the only shard paths a manifest may name
-OPEN_SHARDS = 2  # shards kept memory-mapped per array (sequential readers hit the cache)
 
 
 def shard_clips(bytes_per_clip: int) -> int:
@@ -99,33 +98,56 @@ class ShardedArray:
                       for rel, _ in shards]
         counts = np.array([n for _, n in shards], dtype=np.int64)
         self.offsets = np.concatenate([[0], np.cumsum(counts)])  # (S + 1,)
-        self._open: OrderedDict[int, np.ndarray] = OrderedDict()
+        self._open: dict[int, tuple[int, tuple[int, ...], np.dtype]] = {}  # headers, not data
         self.shape: tuple[int, ...] = ()
         self.dtype = np.dtype(np.uint8)
-        first = self._shard(0)
-        self.dtype = first.dtype
-        self.shape = (int(self.offsets[-1]), *first.shape[1:])
+        _, shape, self.dtype = self._shard(0)
+        self.shape = (int(self.offsets[-1]), *shape[1:])
 
-    def _shard(self, s: int) -> np.ndarray:
+    def _shard(self, s: int) -> tuple[int, tuple[int, ...], np.dtype]:
+        """(data offset, shape, dtype) of shard ``s``'s file, from its ``.npy`` header."""
         if s in self._open:
-            self._open.move_to_end(s)
             return self._open[s]
         path = self.paths[s]
+        inside(self.set_dir, path.relative_to(self.set_dir), self.set_dir / "manifest.json", ProbeSetError)
         try:
-            arr = np.load(path, mmap_mode="r", allow_pickle=False)
+            with open(path, "rb") as fh:
+                version = np.lib.format.read_magic(fh)
+                shape, fortran, dtype = (np.lib.format.read_array_header_1_0(fh) if version == (1, 0)
+                                         else np.lib.format.read_array_header_2_0(fh))
+                offset = fh.tell()
         except (OSError, ValueError) as exc:
             raise ProbeSetError(f"{path} cannot be read: {exc}") from exc
+        if fortran or dtype.hasobject:
+            raise ProbeSetError(f"{path}: not a C-ordered plain array; regenerate the set")
         want = int(self.offsets[s + 1] - self.offsets[s])
-        if arr.ndim < 1 or arr.shape[0] != want:
-            raise ProbeSetError(f"{path} holds {arr.shape[:1]} clips, the manifest says {want}; "
+        if len(shape) < 1 or shape[0] != want:
+            raise ProbeSetError(f"{path} holds {shape[:1]} clips, the manifest says {want}; "
                                 f"the set is damaged, regenerate it")
-        if self.shape and (arr.shape[1:] != self.shape[1:] or arr.dtype != self.dtype):
-            raise ProbeSetError(f"{path} is {arr.dtype}{arr.shape[1:]} per clip, the set's first shard is "
+        if self.shape and (shape[1:] != self.shape[1:] or dtype != self.dtype):
+            raise ProbeSetError(f"{path} is {dtype}{shape[1:]} per clip, the set's first shard is "
                                 f"{self.dtype}{self.shape[1:]}; the set is damaged, regenerate it")
-        self._open[s] = arr
-        while len(self._open) > OPEN_SHARDS:  # unmapping gives the pages back
-            self._open.popitem(last=False)
-        return arr
+        self._open[s] = (offset, shape, dtype)
+        return self._open[s]
+
+    def _read_rows(self, s: int, local: np.ndarray, out: np.ndarray) -> None:
+        """Read ascending rows ``local`` of shard ``s`` into ``out`` (len(local), ...), one read per
+        run of consecutive rows. Why plain reads, not a memory map: mapped pages count in the
+        process's resident memory for as long as the map lives."""
+        offset, shape, dtype = self._shard(s)
+        row_bytes = int(np.prod(shape[1:], dtype=np.int64)) * dtype.itemsize
+        flat = out.reshape(len(local), -1).view(np.uint8)  # (n, row_bytes)
+        breaks = np.flatnonzero(np.diff(local) != 1) + 1
+        try:
+            with open(self.paths[s], "rb", buffering=0) as fh:
+                for run in np.split(np.arange(len(local)), breaks):
+                    a, n = int(local[run[0]]), len(run)
+                    fh.seek(offset + a * row_bytes)
+                    got = fh.readinto(memoryview(flat[run[0]:run[0] + n]).cast("B"))
+                    if got != n * row_bytes:
+                        raise ProbeSetError(f"{self.paths[s]} is truncated; regenerate the set")
+        except OSError as exc:
+            raise ProbeSetError(f"{self.paths[s]} cannot be read: {exc}") from exc
 
     def __len__(self) -> int:
         return self.shape[0]
@@ -143,9 +165,13 @@ class ShardedArray:
         shard = np.searchsorted(self.offsets, rows, side="right") - 1  # (n,)
         for s in np.unique(shard):
             sel = np.flatnonzero(shard == s)
-            local = rows[sel] - self.offsets[s]
-            order = np.argsort(local, kind="stable")  # ascending reads are page-friendly
-            out[sel[order]] = self._shard(int(s))[local[order]]
+            local, inverse = np.unique(rows[sel] - self.offsets[s], return_inverse=True)  # ascending
+            if len(local) == len(sel) and np.all(inverse == np.arange(len(sel))) and np.all(np.diff(sel) == 1):
+                self._read_rows(int(s), local, out[sel[0]:sel[-1] + 1])  # in order: straight into ``out``
+            else:
+                buf = np.empty((len(local), *self.shape[1:]), self.dtype)
+                self._read_rows(int(s), local, buf)
+                out[sel] = buf[inverse]
         return out
 
     def __getitem__(self, key: Any) -> np.ndarray:

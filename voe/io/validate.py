@@ -15,6 +15,7 @@ import pandas as pd
 
 from voe.errors import ProbeSetError
 from voe.io.balance import LEVELS, ClipData, parse_claim, set_problems
+from voe.io.paths import inside
 from voe.io.probeset import ROLES, ProbeSet
 from voe.io.provenance import sha256_file
 
@@ -38,7 +39,11 @@ def _checksums(ps: ProbeSet, rep: ValidationReport) -> None:
         if name not in files:
             rep.problems.append(f"manifest.json lists no checksum for {name}")
     for name, digest in files.items():
-        path = ps.path / name
+        try:
+            path = inside(ps.path, name, ps.path / "manifest.json", ProbeSetError)
+        except ProbeSetError as exc:
+            rep.problems.append(str(exc))
+            continue
         if not path.exists():
             rep.problems.append(f"{path} is missing")
         elif sha256_file(path) != digest:

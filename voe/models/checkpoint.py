@@ -16,6 +16,7 @@ import numpy as np
 
 from voe.errors import CheckpointError
 from voe.io.atomic import atomic_dir
+from voe.io.paths import inside
 
 FORMAT = "voe-checkpoint-1"
 WEIGHTS, CONFIG = "weights.safetensors", "config.json"
@@ -46,10 +47,10 @@ def read_checkpoint(path: Path) -> dict[str, Any]:
     if not cfg.exists():
         raise CheckpointError(f"{path} is not a voe checkpoint (no {CONFIG}); expected a directory from `voe train`")
     try:
-        meta = json.loads(cfg.read_text())
-    except json.JSONDecodeError as exc:
+        meta = json.loads(inside(path, CONFIG, path, CheckpointError).read_text())
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
         raise CheckpointError(f"{cfg} is not valid JSON: {exc}") from exc
-    if meta.get("format") != FORMAT or "model" not in meta or "config" not in meta:
+    if not isinstance(meta, dict) or meta.get("format") != FORMAT or "model" not in meta or "config" not in meta:
         raise CheckpointError(f"{cfg} is not a {FORMAT} checkpoint config")
     return meta
 
@@ -62,6 +63,7 @@ def load_tensors(path: Path) -> dict[str, Any]:
     w = Path(path) / WEIGHTS
     if not w.exists():
         raise CheckpointError(f"checkpoint {path} lacks {WEIGHTS}")
+    inside(path, WEIGHTS, Path(path) / CONFIG, CheckpointError)
     try:
         return load_file(str(w))
     except (SafetensorError, OSError, ValueError) as exc:

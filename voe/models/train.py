@@ -25,6 +25,7 @@ import numpy as np
 
 from voe.errors import ProbeSetError, VoeError
 from voe.io.batch import Batch
+from voe.io.paths import portable_ref
 from voe.io.probeset import ProbeSet, load_probe_set
 from voe.models.clips import Clips, GroupSampler, MemoryClips, as_clips
 
@@ -75,6 +76,20 @@ def val_nll(model: Any, clips: Batch | Clips | MemoryClips, chunk: int = 64) -> 
     return float(np.nanmean(np.concatenate(parts)))
 
 
+def _prepare(model: Any, clips: Clips | MemoryClips, ids: list[str], chunk: int = 128) -> dict:
+    """``model.prepare`` of clips ``ids``, ``chunk`` clips read and converted at a time.
+
+    Why chunks: the raw clips (frames above all) and the conversion's temporaries are several
+    times the prepared tensors; only the latter need to stay for the whole group.
+    """
+    import torch
+
+    if len(ids) <= chunk:
+        return model.prepare(clips.load(ids))
+    parts = [model.prepare(clips.load(ids[i:i + chunk])) for i in range(0, len(ids), chunk)]
+    return {k: torch.cat([p[k] for p in parts]) for k in parts[0]}  # each (n, T, ...)
+
+
 def _windows(data: dict, b: np.ndarray, t0: np.ndarray, L: int) -> dict:
     import torch
 
@@ -103,9 +118,8 @@ def fit(model: Any, train: Batch | Clips, val: Batch | Clips, cfg: TrainConfig,
     groups = train.groups(cfg.buffer_clips)
     sampler = GroupSampler(groups, cfg.seed)
     ids = sampler.next()
-    first = train.load(ids)
-    data, n_buf, T = model.prepare(first), len(ids), first.shape[1]
-    del first
+    data, n_buf = _prepare(model, train, ids), len(ids)
+    T = int(next(iter(data.values())).shape[1])
     per_group = max(1, math.ceil(n_buf * cfg.group_draws / preset["batch"]))  # steps per group
     L = min(preset["window"], T)
     model.net.to(cfg.device)
@@ -117,7 +131,7 @@ def fit(model: Any, train: Batch | Clips, val: Batch | Clips, cfg: TrainConfig,
     while step < steps and time.monotonic() < deadline:
         if len(groups) > 1 and step and step % per_group == 0:  # the next group of shards
             ids, data = sampler.next(), {}  # drop the old group before loading the next
-            data, n_buf = model.prepare(train.load(ids)), len(ids)
+            data, n_buf = _prepare(model, train, ids), len(ids)
         model.net.train()
         b = rng.integers(0, n_buf, preset["batch"])
         t0 = rng.integers(0, T - L + 1, preset["batch"])
@@ -162,7 +176,7 @@ def train(ref: str, data: Path, out: Path, cfg: TrainConfig, args: dict[str, Any
     full, _ = resolve(ref)
     train_c, val_c, sha = split_clips(data, cfg.val_frac, cfg.seed)
     args = dict(args or {})
-    meta: dict[str, Any] = {"model": full, "seed": cfg.seed, "train_data": str(data),
+    meta: dict[str, Any] = {"model": full, "seed": cfg.seed, "train_data": portable_ref(data, out),
                             "train_manifest_sha256": sha, "n_train": len(train_c), "n_val": len(val_c),
                             "versions": package_versions()}
     from voe.models.torchbase import TorchModel

@@ -17,6 +17,7 @@ import pandas as pd
 
 from voe.errors import ProbeSetError
 from voe.io.atomic import atomic_dir
+from voe.io.paths import show_path
 from voe.report import render as R
 from voe.report.concepts import concept_name, describe
 from voe.report.filmstrip import save_figure
@@ -33,7 +34,8 @@ def _slug(text: str) -> str:
     return re.sub(r"[^a-z0-9]+", "-", text.lower()).strip("-") or "x"
 
 
-def _example_frames(runs: Sequence[Run], set_ids: Sequence[str]) -> tuple[dict[str, np.ndarray], str]:
+def _example_frames(runs: Sequence[Run], set_ids: Sequence[str],
+                    show_paths: bool = False) -> tuple[dict[str, np.ndarray], str]:
     """Frames ``(n_clips, T, H, W)`` per set id, from the probe set recorded in the runs."""
     from voe.io.probeset import load_probe_set
 
@@ -41,7 +43,7 @@ def _example_frames(runs: Sequence[Run], set_ids: Sequence[str]) -> tuple[dict[s
     try:
         ps = load_probe_set(run.probes_path)
         if ps.manifest_sha256 != run.manifest_sha256:
-            return {}, (f"the probe set at {run.probes_path} has changed since scoring "
+            return {}, (f"the probe set at {show_path(run.probes_path, show_paths)} has changed since scoring "
                         "(manifest hash differs), so example frames are not shown")
         out = {}
         for sid in set_ids:
@@ -49,7 +51,8 @@ def _example_frames(runs: Sequence[Run], set_ids: Sequence[str]) -> tuple[dict[s
             out[sid] = ps.get(ids)["frames"]
         return out, ""
     except ProbeSetError as exc:
-        return {}, f"example frames are not shown: {exc}"
+        why = str(exc) if show_paths else f"the probe set {show_path(run.probes_path)} cannot be read"
+        return {}, f"example frames are not shown: {why}"
 
 
 def _publishable(root: Path) -> None:
@@ -75,8 +78,11 @@ def _describe_runs(runs: Sequence[Run]) -> pd.DataFrame:
 
 def build_report(run_dirs: Sequence[str | Path], out: Path, title: str | None = None,
                  n_boot: int = 10_000, seed: int = 0, overwrite: bool = False,
-                 validity: Path | None = None) -> pd.DataFrame:
+                 validity: Path | None = None, show_paths: bool = False) -> pd.DataFrame:
     """Write ``report.md``, ``report.html``, ``summary.csv``, ``conditions.csv`` and ``figures/``.
+
+    The probe set is named by its folder name and manifest sha256; ``show_paths`` adds its
+    absolute path (left out by default: it says nothing to a reader elsewhere).
 
     Raises:
         RunError: no runs, a malformed or empty run, or runs from different probe sets.
@@ -117,7 +123,7 @@ def build_report(run_dirs: Sequence[str | Path], out: Path, title: str | None = 
                 ["visible_violation", "set_id"], ascending=[False, True])
             best = summary[summary["concept"] == concept].sort_values("accuracy", ascending=False, kind="stable")
             examples[concept] = (str(sets["set_id"].iloc[0]), str(best["model"].iloc[0]))
-        frames, film_note = _example_frames(runs, [s for s, _ in examples.values()])
+        frames, film_note = _example_frames(runs, [s for s, _ in examples.values()], show_paths)
         films = []
         by_label = {r.label: r for r in runs}
         for concept, (sid, model) in examples.items():
@@ -125,7 +131,7 @@ def build_report(run_dirs: Sequence[str | Path], out: Path, title: str | None = 
                 name = f"figures/filmstrip_{_slug(concept_name(concept))}.png"
                 save_figure(F.example_filmstrip(by_label[model], frames[sid], sid), tmp / name)
                 films.append(R.Figure(name, f"filmstrip {sid}", f"{concept}: set {sid}, traces of {model}."))
-        blocks = _blocks(title, runs, summary, conditions, concepts, looking, films, film_note)
+        blocks = _blocks(title, runs, summary, conditions, concepts, looking, films, film_note, show_paths)
         blocks[-2:-2] = control_blocks(check)
         if validity is not None:
             blocks[-2:-2] = _validity_blocks(Path(validity), tmp, check.confounds)
@@ -148,7 +154,8 @@ def _validity_blocks(validity: Path, tmp: Path, confounds: pd.DataFrame) -> list
     return validity_blocks(matrix, "figures/specificity.png", confounds=confounds)
 
 
-def _blocks(title, runs, summary, conditions, concepts, looking, films, film_note) -> list[R.Block]:
+def _blocks(title, runs, summary, conditions, concepts, looking, films, film_note,
+            show_paths: bool = False) -> list[R.Block]:
     ref = runs[0]
     show = summary.copy()
     show["95% CI"] = [f"[{lo:.2f}, {hi:.2f}]" for lo, hi in zip(show["ci_low"], show["ci_high"], strict=True)]
@@ -159,7 +166,7 @@ def _blocks(title, runs, summary, conditions, concepts, looking, films, film_not
     b: list[R.Block] = [
         R.Heading(title, 1),
         R.Para(f"Generated {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())} from {len(runs)} stored "
-               f"run(s) of the probe set `{ref.probes_path}` (manifest sha256 "
+               f"run(s) of the probe set `{show_path(ref.probes_path, show_paths)}` (manifest sha256 "
                f"`{ref.manifest_sha256[:16]}`). Every number below is computed from the per-frame "
                "surprise the runs stored; no model was run to make this report."),
         R.Heading("How to read this report"),

@@ -16,6 +16,7 @@ import numpy as np
 import pandas as pd
 
 from voe.errors import RunError
+from voe.io.paths import inside, resolve_ref
 
 #: What a run's surprise is, by ``surprise_kind`` (``run.json``; runs before it are ``nll``).
 SURPRISE_UNITS = {"nll": "nats", "bound": "bound", "error": "error"}
@@ -62,7 +63,12 @@ class Run:
 
     @property
     def probes_path(self) -> Path:
-        return Path(self.meta["probes"]["path"])
+        """The scored probe set: recorded relative to the run directory (or absolute, older runs).
+
+        Not confined to the run directory: it names another input, which is only used after its
+        manifest sha256 matches the one recorded here.
+        """
+        return resolve_ref(self.meta["probes"]["path"], self.path)
 
 
 def _read_parquet(path: Path, required: Sequence[str]) -> pd.DataFrame:
@@ -89,12 +95,14 @@ def load_run(path: str | Path) -> Run:
     if not mpath.exists():
         raise RunError(f"{mpath} is missing; is {path} a run written by `voe score`?")
     try:
-        meta = json.loads(mpath.read_text())
-        _ = meta["probes"]["manifest_sha256"], meta["model"]["name"]
-    except (json.JSONDecodeError, KeyError, TypeError) as exc:
+        meta = json.loads(inside(path, "run.json", path, RunError).read_text())
+        _ = meta["probes"]["manifest_sha256"], meta["model"]["name"], meta["probes"]["path"]
+        if not all(isinstance(v, str) for v in (meta["probes"]["manifest_sha256"], meta["probes"]["path"])):
+            raise TypeError("probes.path and probes.manifest_sha256 must be strings")
+    except (json.JSONDecodeError, UnicodeDecodeError, KeyError, TypeError) as exc:
         raise RunError(f"{mpath} is malformed ({exc!r}); re-score with `voe score`") from exc
-    clips = _read_parquet(path / "clips.parquet", CLIP_REQUIRED).reset_index(drop=True)
-    frames = _read_parquet(path / "frames.parquet", FRAME_REQUIRED)
+    clips = _read_parquet(inside(path, "clips.parquet", mpath, RunError), CLIP_REQUIRED).reset_index(drop=True)
+    frames = _read_parquet(inside(path, "frames.parquet", mpath, RunError), FRAME_REQUIRED)
     T = int(frames["t"].max()) + 1
     pos = pd.Series(np.arange(len(clips)), index=clips["clip_id"].to_numpy())
     try:

@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from voe.errors import ModelContractError, RunError, VoeError
+from voe.io.paths import portable_ref
 from voe.io.probeset import ProbeSet, load_probe_set
 from voe.io.provenance import sha256_path
 from voe.scoring.cache import ScoreCache
@@ -155,9 +156,9 @@ def score_probe_set(model: Any, probes: ProbeSet | str | Path, out: Path, *, mod
         "model": {"ref": ref, "class": f"{type(model).__module__}:{type(model).__qualname__}",
                   "args": dict(model_args or {}), "name": name,
                   "observation": str(getattr(model, "observation", "")),
-                  "checkpoint": str(checkpoint) if checkpoint else None, "checkpoint_sha256": ck_sha},
+                  "checkpoint": portable_ref(checkpoint, out) if checkpoint else None, "checkpoint_sha256": ck_sha},
         "surprise_kind": kind,
-        "probes": {"path": str(Path(ps.path).resolve()), "manifest_sha256": ps.manifest_sha256,
+        "probes": {"path": portable_ref(ps.path, out), "manifest_sha256": ps.manifest_sha256,
                    "concepts": list(ps.manifest.get("concepts", []))},
         "batch_size": batch_size, "device": device, "bf16": bool(bf16),
         "order": {"seed": seed, "n_batches": len(sched.batches), "n_groups": sched.n_groups,
