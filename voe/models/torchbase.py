@@ -26,6 +26,7 @@ class TorchModel:
     observation: ClassVar[str]
     warmup: ClassVar[int] = 1
     model_id: ClassVar[str]
+    device: str = "cpu"
 
     def __init__(self, **kwargs: Any) -> None:
         known = {f.name for f in fields(self.Config)}
@@ -56,9 +57,17 @@ class TorchModel:
         self.check_layout(batch)
         self.net.eval()
         with torch.no_grad():
-            out = self.nll(self.prepare(batch)).double().numpy().copy()  # (B, T)
+            data = {k: v.to(self.device) if isinstance(v, torch.Tensor) else v
+                    for k, v in self.prepare(batch).items()}
+            out = self.nll(data).double().cpu().numpy().copy()  # (B, T)
         out[:, : self.warmup] = np.nan
         return out
+
+    def to(self, device: str) -> TorchModel:
+        """Run on ``device`` (``voe score --device``): the weights move, batches follow."""
+        self.device = str(device)
+        self.net.to(self.device)
+        return self
 
     def randomize_outputs(self, seed: int) -> None:
         """Give the zero-initialised output layers (and output head) random, non-zero values.
