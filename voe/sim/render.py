@@ -14,6 +14,7 @@ Screens are opaque and drawn last, so an object that is not ``present`` could no
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 from functools import lru_cache
@@ -118,10 +119,13 @@ class Renderer:
 
     def _window(self, x0: float, x1: float, y0: float, y1: float) -> tuple[slice, slice]:
         """Rows and columns of the pixels within two pixels of the box ``[x0, x1] x [y0, y1]``."""
-        S, p = self.size, self.pix
-        cols = slice(int(np.clip(np.floor(x0 / p) - 2, 0, S)), int(np.clip(np.ceil(x1 / p) + 2, 0, S)))
-        rows = slice(int(np.clip(np.floor((self.extent[1] - y1) / p) - 2, 0, S)),
-                     int(np.clip(np.ceil((self.extent[1] - y0) / p) + 2, 0, S)))
+        S, p, top = self.size, self.pix, self.extent[1]
+
+        def bound(v: float) -> int:
+            return min(max(int(v), 0), S)
+
+        cols = slice(bound(math.floor(x0 / p) - 2), bound(math.ceil(x1 / p) + 2))
+        rows = slice(bound(math.floor((top - y1) / p) - 2), bound(math.ceil((top - y0) / p) + 2))
         return rows, cols
 
     def _coverage(self, sd: np.ndarray) -> np.ndarray:
