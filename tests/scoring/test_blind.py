@@ -59,11 +59,12 @@ def test_batch_is_blind_with_crn_seeds(synth_probes):
     assert blinder.describe(batch.clip_ids[2]) == f"{batch.clip_ids[2]} (clip {ids[2]})"
 
 
+@pytest.mark.parametrize("n", [2, 6])
 @pytest.mark.parametrize("cls, check", CHEATERS)
-def test_check_model_rejects_cheaters_by_name(cls, check, synth_probes):
+def test_check_model_rejects_cheaters_by_name(cls, check, n, synth_probes):
     ps = load_probe_set(synth_probes)
     blinder = Blinder(ps)
-    batch = blinder.batch(blinder.sample(plan(ps.index, 6), 6))
+    batch = blinder.batch(blinder.sample(plan(ps.index, n), n))
     with pytest.raises(ModelContractError, match=f"failed the {check} check") as err:
         check_model(cls(), batch)
     assert f"'{cls().name}'" in str(err.value) and "\n" not in str(err.value)

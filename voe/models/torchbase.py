@@ -69,6 +69,26 @@ class TorchModel:
         self.net.to(self.device)
         return self
 
+    def randomize_outputs(self, seed: int) -> None:
+        """Give the zero-initialised output layers (and output head) random, non-zero values.
+
+        Why: a learned model starts with zero output layers so that, untrained, it is uniform
+        (a constant: it ties every matched set by construction). A *random network* validity
+        control must be a random, non-constant function of its inputs instead; this draws every
+        all-zero linear or convolutional layer from the default ``U(-1/sqrt(fan_in), ...)`` and
+        lets modules with a ``randomize(generator)`` method (the state head) do their own.
+        """
+        gen = torch.Generator().manual_seed(int(seed))
+        with torch.no_grad():
+            for m in self.net.modules():
+                if isinstance(m, torch.nn.Linear | torch.nn.Conv2d) and not m.weight.any():
+                    bound = 1.0 / float(np.sqrt(m.weight[0].numel()))
+                    m.weight.uniform_(-bound, bound, generator=gen)
+                    if m.bias is not None:
+                        m.bias.uniform_(-bound, bound, generator=gen)
+                if m is not self.net and hasattr(m, "randomize"):
+                    m.randomize(gen)
+
     # -- checkpoints -------------------------------------------------------------------------
     def check_layout(self, batch: Batch) -> None:
         """Refuse a batch whose features differ from the ones the weights were trained on."""
