@@ -27,6 +27,7 @@ import pandas as pd
 
 from voe.errors import VoeError
 from voe.io.clipkey import clip_key
+from voe.io.paths import portable_ref
 from voe.io.probeset import ProbeSet, load_probe_set
 from voe.io.provenance import sha256_file
 from voe.scoring.store import SURPRISE_KINDS, write_run
@@ -86,11 +87,12 @@ def table_to_nll(path: Path, df: pd.DataFrame, keys: list[str], T: int) -> np.nd
         row = int(np.flatnonzero(~np.isfinite(surprise))[0])
         raise _bad(path, f"surprise must be a finite number; row {row} has {df['surprise'].iloc[row]!r}")
     pos = {k: i for i, k in enumerate(keys)}
-    unknown = sorted(set(df["clip_key"]) - set(pos))
+    present = set(df["clip_key"])
+    unknown = sorted(present - set(pos))
     if unknown:
         raise _bad(path, f"{len(unknown)} clip_key(s) are not clips of this probe set, e.g. {unknown[0]!r}; "
                          "was it made from another export?")
-    absent = [k for k in keys if k not in set(df["clip_key"])]
+    absent = [k for k in keys if k not in present]
     if absent:
         raise _bad(path, f"{len(absent)} of {len(keys)} clips have no surprise, e.g. {absent[0]!r}")
     if "frame" in df.columns:
@@ -132,7 +134,7 @@ def score_surprises(probes: ProbeSet | str | Path, surprises: Path, out: Path, *
                   "surprises": {"file": surprises.name, "sha256": sha256_file(surprises),
                                 "per_frame": "frame" in table.columns}},
         "surprise_kind": kind,
-        "probes": {"path": str(Path(ps.path).resolve()), "manifest_sha256": ps.manifest_sha256,
+        "probes": {"path": portable_ref(ps.path, out), "manifest_sha256": ps.manifest_sha256,
                    "concepts": list(ps.manifest.get("concepts", []))},
         "check": "not applicable (computed outside voe)",
         "launcher": {"name": "external", "world_size": 1}, "clips_from_cache": 0, "wall_time_s": 0.0,

@@ -67,6 +67,15 @@ def _no_gravity(body: pymunk.Body, gravity, damping, dt) -> None:
     pymunk.Body.update_velocity(body, (0.0, 0.0), damping, dt)
 
 
+def _remainder_2pi(x: np.ndarray) -> np.ndarray:
+    """``math.remainder(x, 2 pi)`` elementwise: ``fmod`` is exact, and so is the one correction
+    into ``[-pi, pi]`` (Sterbenz: both operands within a factor 2). An exact tie at +-pi keeps
+    the sign of ``fmod``'s result instead of IEEE's even quotient (not reachable in practice)."""
+    two_pi = 2 * math.pi
+    r = np.fmod(x, two_pi)
+    return np.where(r > math.pi, r - two_pi, np.where(r < -math.pi, r + two_pi, r))
+
+
 Look = tuple[int, tuple[float, ...], bool]  # slot, constant features (is_circle .. intensity), is a box
 
 
@@ -100,8 +109,7 @@ def decode_poses(buf: pymunk.batch.Buffer, frames: list[tuple[int, dict[int, Loo
         tails = np.array([(np.nan,) * 5 if lk is None else lk[1] for lk in table])  # (u, 5)
         out[rows, cols, 6:] = tails[inv][keep]
         boxes = np.array([lk is not None and lk[2] for lk in table])[inv][keep]
-        for r, c in zip(rows[boxes].tolist(), cols[boxes].tolist(), strict=True):
-            out[r, c, 2] = math.remainder(out[r, c, 2], 2 * math.pi)
+        out[rows[boxes], cols[boxes], 2] = _remainder_2pi(out[rows[boxes], cols[boxes], 2])
         start = f
     return out
 
