@@ -27,6 +27,7 @@ import pandas as pd
 
 from voe.errors import VoeError
 from voe.io.clipkey import clip_key
+from voe.io.paths import portable_ref
 from voe.io.probeset import ProbeSet, load_probe_set
 from voe.io.provenance import sha256_file
 from voe.scoring.store import SURPRISE_KINDS, write_run
@@ -74,8 +75,12 @@ def table_to_nll(path: Path, df: pd.DataFrame, keys: list[str], T: int) -> np.nd
         raise _bad(path, f"lacks column(s) {missing}; expected clip_key, [frame,] surprise")
     if df.empty:
         raise _bad(path, "has no rows")
-    if not all(isinstance(k, str) for k in df["clip_key"]):
-        row = int(np.flatnonzero([not isinstance(k, str) for k in df["clip_key"]])[0])
+    try:
+        key_list = df["clip_key"].tolist()
+    except Exception as exc:  # noqa: BLE001 - a parquet string column holding bytes that are not UTF-8
+        raise _bad(path, f"column 'clip_key' is not valid UTF-8 text ({exc})") from exc
+    if not all(isinstance(k, str) for k in key_list):
+        row = int(np.flatnonzero([not isinstance(k, str) for k in key_list])[0])
         raise _bad(path, f"column 'clip_key' must hold text keys; row {row} has {df['clip_key'].iloc[row]!r}")
     for col in ("surprise", "frame"):
         if col in df.columns and (not pd.api.types.is_numeric_dtype(df[col]) or pd.api.types.is_bool_dtype(df[col])):
@@ -132,7 +137,7 @@ def score_surprises(probes: ProbeSet | str | Path, surprises: Path, out: Path, *
                   "surprises": {"file": surprises.name, "sha256": sha256_file(surprises),
                                 "per_frame": "frame" in table.columns}},
         "surprise_kind": kind,
-        "probes": {"path": str(Path(ps.path).resolve()), "manifest_sha256": ps.manifest_sha256,
+        "probes": {"path": portable_ref(ps.path, out), "manifest_sha256": ps.manifest_sha256,
                    "concepts": list(ps.manifest.get("concepts", []))},
         "check": "not applicable (computed outside voe)",
         "launcher": {"name": "external", "world_size": 1}, "clips_from_cache": 0, "wall_time_s": 0.0,
