@@ -1,69 +1,56 @@
-"""Solidity-v1: the possible object stops at the shelf / wall, the impossible one goes through."""
+"""Solidity-v2: each possible object bounces back off the wall; the spliced ones come out on the far side."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from tests.concepts.helpers import assert_pair
 from voe.concepts import get_concept
-from voe.concepts.parts import FLOOR_Y
 from voe.sim.scene import FEATURE_NAMES, SimConfig
 
-X, Y = FEATURE_NAMES.index("x"), FEATURE_NAMES.index("y")
-BAR_R = 0.1
+X, VX = FEATURE_NAMES.index("x"), FEATURE_NAMES.index("vx")
 
 
 @pytest.fixture(scope="module")
 def sets():
-    c = get_concept("Solidity-v1")
-    return [c.make_set(i, s, SimConfig()) for s in (0, 1) for i in range(12)]
+    c = get_concept("Solidity-v2")
+    return [c.make_set(i, s, SimConfig()) for s in (0, 7) for i in range(8)]
 
 
-def _after(rec, slot, onset):
-    """x, y of ``slot`` on the present frames from the onset on."""
-    t = np.flatnonzero(rec.present[onset:, slot]) + onset
-    return rec.states[t, slot, X], rec.states[t, slot, Y]
+def _seen_x(rec, slot, frames):
+    t = frames[rec.present[frames, slot]]
+    return rec.states[t, slot, X]
 
 
-def test_both_events_and_both_visibilities_occur(sets):
-    assert {(m.params["event"], m.visible) for m in sets} == {
-        ("shelf", True), ("shelf", False), ("wall", True), ("wall", False)}
-
-
-def test_pair_shares_the_prefix_and_differs_after(sets):
+def test_possible_objects_stay_on_their_side_and_bounce(sets):
     for m in sets:
-        assert_pair(m, 3, 30)
+        slot, wx = m.params["main_slots"][0], m.params["wall_x"]
+        a, b = (cl.rec for cl in m.clips[:2])
+        T = np.arange(len(a))
+        assert (_seen_x(a, slot, T) < wx).all() and (_seen_x(b, slot, T) > wx).all()
+        assert a.states[0, slot, VX] > 0 and b.states[0, slot, VX] < 0
+        assert (np.nan_to_num(a.states[:, slot, VX]) < 0).any()  # A comes back off the wall
 
 
-def test_shelf_holds_the_possible_object_and_not_the_impossible_one(sets):
-    for m in (m for m in sets if m.params["event"] == "shelf"):
-        p, slot = m.params, m.params["main_slots"][0]
-        h, top, (x0, x1) = p["look"]["height"], p["shelf_y"] + BAR_R, p["shelf_x"]
-        pos, imp = (cl.rec for cl in m.clips)
-        _, y = _after(pos, slot, m.clips[0].onset)
-        assert (y > top).all()  # never below the shelf's top
-        if m.visible:  # it rests on the shelf at the end
-            assert y[-1] == pytest.approx(top + h / 2, abs=0.15)
-        x, y = _after(imp, slot, m.clips[0].onset)
-        below = (y + h / 2 < p["shelf_y"] - BAR_R) & (x > x0) & (x < x1)
-        assert below.any()  # wholly under the shelf, within its span: it went through
-        assert y[-1] == pytest.approx(FLOOR_Y + h / 2, abs=0.15)  # and lies on the floor
-
-
-def test_wall_stops_the_possible_object_and_not_the_impossible_one(sets):
-    for m in (m for m in sets if m.params["event"] == "wall"):
-        p, slot = m.params, m.params["main_slots"][0]
-        d, w = p["direction"], p["look"]["width"]
-        pos, imp = (cl.rec for cl in m.clips)
-        x, _ = _after(pos, slot, 0)
-        assert (d * (x - p["wall_x"]) < 0).all()  # stays on the near side
-        x, _ = _after(imp, slot, m.clips[0].onset)
-        assert (d * (x - p["wall_x"]) > w / 2 + BAR_R).any()  # wholly on the far side
-
-
-def test_contact_is_hidden_in_occluded_sets_and_seen_in_visible_ones(sets):
+def test_spliced_objects_come_out_on_the_far_side(sets):
     for m in sets:
-        imp, onset, slot = m.clips[1].rec, m.clips[0].onset, m.params["main_slots"][0]
-        assert imp.exists[onset, slot]
-        assert imp.present[onset, slot] == m.visible
+        slot, wx, onset = m.params["main_slots"][0], m.params["wall_x"], m.clips[0].onset
+        ab, ba = (cl.rec for cl in m.clips[2:])
+        before, after = np.arange(onset), np.arange(onset, len(ab))
+        assert (_seen_x(ab, slot, before) < wx).all() and (_seen_x(ab, slot, after) > wx).all()
+        assert (_seen_x(ba, slot, before) > wx).all() and (_seen_x(ba, slot, after) < wx).all()
+        assert _seen_x(ab, slot, after).size >= 3  # and is seen there
+
+
+def test_occluded_splice_is_hidden_and_the_wall_top_stays_in_view(sets):
+    assert {m.condition for m in sets} == {"occluded", "perceptual"}
+    for m in sets:
+        slot, onset = m.params["main_slots"][0], m.clips[0].onset
+        if m.condition == "occluded":
+            assert m.carries_verdict
+            for cl in m.clips:
+                assert not cl.rec.present[onset - 2:onset + 2, slot].any()
+            occ = m.clips[0].rec.geometry["occluders"][0]
+            assert m.params["wall_top"] > occ["y1"] + 0.5
+        else:
+            assert not m.carries_verdict and m.clips[0].rec.present[onset, slot]

@@ -50,7 +50,7 @@ def test_validate_passes_then_catches_corruption(tiny_probes, tmp_path):
     np.save(bad / "shards/00000/frames.npy", arr)
     rep = validate_probe_set(load_probe_set(bad))
     assert any("sha256" in p for p in rep.problems)
-    assert any("frame multisets differ" in p or "frames differ" in p for p in rep.problems)
+    assert any("lacks F" in p or "frames differ" in p for p in rep.problems)
 
 
 def test_bad_directories_give_clear_errors(tmp_path):

@@ -1,25 +1,21 @@
-"""Energy: a ball never bounces higher than the top of its flight.
+"""Energy: a bouncing ball never rises higher than the top of its flight.
 
-Possible: a ball is tossed up (and sideways) so that the top of its flight is ``h`` above the
-floor (its bottom); it falls and bounces with a restitution below one (ball elasticity times floor
-elasticity, pymunk multiplies them), so it peaks lower than ``h``. Impossible: identical until the
-impact, which has restitution ``sqrt(k)`` with ``k > 1`` (the ball's elasticity is raised just
-before it lands), so the ball rises towards ``k * h``. Occluded variant: a narrow pillar, as tall
-as the window, hides the impact; the ball comes out of it going up too fast. Both clips' balls
-have the same horizontal motion, so they are hidden on exactly the same frames. Visible variant:
-the same drift, no pillar.
+Possible: a ball is tossed up (and sideways) so that the top of its flight is ``h`` above the floor;
+it falls and bounces once with a restitution below one (ball elasticity times floor elasticity,
+pymunk multiplies them), so it rises only to about ``e^2 h``. Impossible: the same clip played
+backwards (time reversal): the ball falls from the lower peak, bounces, and rises to ``h``, gaining
+energy from nowhere at the bounce. Gravity still points down in the reversed clip (parabolas are
+symmetric in time), the frames are exactly those of the possible clip and so are the per-step
+changes, the positions, speeds and heights (F+M+P+V+H+D): a per-frame, motion-energy, height or
+speed scorer ties exactly. Only the order of the frames differs (no ``T_k``), and only at the
+bounce does the reversed clip break a law. Occluded variant: a pillar, taller than the window,
+hides the bounce; visible variant: no pillar. Both carry the verdict.
 
-Why the toss and the timing: the bounce comes late (frame 24-28), so that both clips hold exactly
-one; with an early drop (v1) the lower-bouncing possible ball bounced again within the clip and
-the impossible one did not, and a model unsure about bounces paid for the extra one. The energy
-comes from the bounce itself, not from a kick in mid-air (v1 raised the velocity one frame after
-the bounce): a kick is also a break of inertia, and a model that allows bounces to gain energy
-must find the impossible clip ordinary.
+Why a single bounce late in the clip: the reversed clip then holds one (energy-gaining) bounce
+too, and starts and ends in flight, so nothing but the bounce tells it from a tossed ball.
 
-Pair, not splice: every possible clip of the scene peaks below the top of its toss after the impact,
-and two possible clips that share the scene (drop from ``h1`` and from ``h2``) are never at the
-same place with the same velocity, so a splice either teleports the ball or shows it dropped from
-``h2`` rising to at most ``h2``, which is no violation of this concept.
+v2 (a pair: the impact replayed with restitution above one) had the impossible ball higher and
+faster than the possible one after the onset: a height and a speed scorer passed it.
 """
 
 from __future__ import annotations
@@ -29,18 +25,29 @@ from typing import Any
 import numpy as np
 
 from voe.concepts.base import Concept, Context
-from voe.concepts.branch import edited, pair, rollout
+from voe.concepts.branch import rollout
 from voe.concepts.parts import FLOOR_Y, PILLAR, G, floor, screen
 from voe.sim.rollout import Recording
-from voe.sim.scene import Body, Scene
-from voe.sim.world import World
+from voe.sim.scene import FEATURE_NAMES, Body, Scene
+
+#: State features that change sign when time runs backwards (velocities).
+_ODD = [FEATURE_NAMES.index(n) for n in ("vx", "vy", "omega")]
+
+
+def reverse(rec: Recording) -> Recording:
+    """The clip played backwards: frames and presence reversed, velocities negated."""
+    states = rec.states[::-1].copy()  # (T, K, F)
+    states[..., _ODD] = -states[..., _ODD]
+    states[..., _ODD] += 0.0  # no negative zeros: a resting object has the same state either way
+    return Recording(rec.frames[::-1].copy(), states, rec.present[::-1].copy(),
+                     rec.exists[::-1].copy(), rec.geometry)
 
 
 class Energy(Concept):
     name = "energy"
-    version = 2
+    version = 3
     kind = "pair"
-    confounded = True  # a branch pair: impossible frames are new (see probes/README)
+    balance = {"visible": "F+M+P+V+H+D", "occluded": "F+M+P+V+H+D"}
 
     def _sample(self, rng: np.random.Generator, ctx: Context) -> dict[str, Any]:
         r = self.ranges
@@ -51,7 +58,6 @@ class Energy(Concept):
                 "x": x, "drop": self.uniform(rng, r["drop"]), "t_up": self.uniform(rng, r["t_up"]),
                 "ball_elasticity": self.uniform(rng, r["ball_elasticity"]),
                 "floor_elasticity": self.uniform(rng, r["floor_elasticity"]),
-                "gain": self.uniform(rng, r["gain"]),
                 "vx": float(np.sign(5.0 - x)) * self.uniform(rng, r["drift"]),  # towards the centre
                 "screen_width": size + self.uniform(rng, r["screen_margin"])}
 
@@ -62,25 +68,23 @@ class Energy(Concept):
                     x=p["x"], y=FLOOR_Y + p["drop"] - vy0 ** 2 / (2 * G) + look["height"] / 2,
                     vx=p["vx"], vy=vy0, friction=0.0, elasticity=p["ball_elasticity"],
                     intensity=look["intensity"])
-        # a pillar as tall as the window, centred where the ball lands: the ball is hidden exactly
-        # while it passes behind it, whatever its height, so both clips show it equally long
+        # a pillar as tall as the window, centred where the ball lands: it hides the bounce
         x_land = p["x"] + p["vx"] * (p["t_up"] + float(np.sqrt(2 * p["drop"] / G)))
         occ = [] if ctx.visible else [screen(x_land, p["screen_width"], PILLAR, pad=ctx.pixel)]
         return self.scene(ctx, [ball], [floor(friction=0.0, elasticity=p["floor_elasticity"])], occ)
 
     def _pair(self, p: dict[str, Any], ctx: Context) -> tuple[Recording, Recording, int]:
-        slot = ctx.slots[0]
-        scene = self.build(p, ctx)
-        possible = rollout(scene, ctx.cfg)
-        vy = possible[1][:, slot, 4]  # (T,)
+        slot, T = ctx.slots[0], ctx.cfg.n_frames
+        pos, truth = rollout(self.build(p, ctx), ctx.cfg)  # truth: states also while hidden
+        vy = truth[:, slot, 4]  # (T,)
         falling = int(np.argmax(vy < 0))
         rising = np.flatnonzero(vy[falling:] > 0) + falling
-        if rising.size == 0 or rising[0] > ctx.cfg.n_frames - 10:
+        if rising.size == 0 or not 8 <= rising[0] <= T - 8:
             raise ValueError(f"energy: first impact at frame {rising[:1]}; adjust `drop`/`t_up` in spec.yaml")
+        later = np.flatnonzero(np.diff(np.sign(vy[rising[0]:])) > 0)
+        if later.size:
+            raise ValueError("energy: the ball bounces twice; shorten the rebound in spec.yaml")
         impact = int(rising[0])  # first frame after the floor has sent the ball back up
-        elasticity = float(np.sqrt(p["gain"]) / p["floor_elasticity"])  # restitution sqrt(gain) > 1
-
-        def springy(world: World) -> None:
-            world.set_elasticity(slot, elasticity)
-
-        return pair(scene, ctx.cfg, edited(impact - 1, springy), self.id, possible)
+        # backwards, forward frame impact - 1 (the last one falling) is frame T - impact: the first
+        # frame after the reversed bounce, where the ball rises faster than it fell
+        return pos, reverse(pos), T - impact

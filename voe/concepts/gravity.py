@@ -1,21 +1,21 @@
-"""Gravity: objects in flight fall; they do not float on.
+"""Gravity: what goes up comes down, and what is dropped falls, on time.
 
-An object is thrown in an arc. Possible: it falls back and lands on the floor. Impossible: near
-the top of its arc its gravity is switched off, and it flies on in a straight line at the velocity
-it had, nearly level. Occluded variant: a narrow pillar, taller than the window, stands where the
-object reaches the top of its arc, so gravity goes off behind it and the object comes out of the
-far side too high. Visible variant: no pillar.
+A screen hangs in the air (its bottom above the floor, its top below the window's top), so a
+ball is hidden while it is inside that column. Possible A: a ball is thrown straight up from the
+floor into the column; it rises behind the screen, turns round and falls back out of the bottom
+(after about 1 s). Possible B: the same ball is dropped from above the column; it falls in at the
+top and out at the bottom, faster and much sooner. The balls share x, so while both are behind
+the screen A's and B's frames are identical. Impossible AB / BA splice A and B in the middle of
+those frames: the ball thrown up comes back down far too soon and too fast (AB), and the dropped
+ball hangs behind the screen and comes out late and slowly (BA). Only gravity fixes when and how
+fast a ball comes out of the column, so only gravity tells the spliced clips from the possible
+ones.
 
-Only gravity is broken: the object's velocity is never touched, so no break of inertia comes with
-the float (v1's objects also stopped dead in mid-air or were kicked upwards). The floor is
-frictionless, so the object's horizontal motion is the same in both clips and it is in view on
-the same frames. The object is in free flight at the onset, so nothing but gravity decides the
-outcome: v1's ledge event (an object sliding off a shelf) also needed support by the shelf, which
-a model without collisions does not have.
+Occluded (verdict): the splice falls with the ball hidden for at least 2 frames on each side:
+F+M+T2+P+V+H+D. Perceptual: no screen; the ball jumps from one path to the other in view.
 
-Pair, not splice: the impossible path (level flight after the top of an arc) is not a piece of any
-possible clip in the same scene, so no splice of two possible clips shows it; a splice would only
-make the object jump between two falling paths.
+v2 (a pair: gravity switched off at the top of an arc) had the impossible object higher than the
+possible one after the onset: a mean-height scorer passed it.
 """
 
 from __future__ import annotations
@@ -25,51 +25,53 @@ from typing import Any
 import numpy as np
 
 from voe.concepts.base import Concept, Context
-from voe.concepts.branch import edited, pair, rollout
-from voe.concepts.parts import FLOOR_Y, PILLAR, G, floor, screen
-from voe.sim.rollout import Recording
-from voe.sim.scene import Body, Scene
-from voe.sim.world import World
+from voe.concepts.parts import FLOOR_Y, G, common_hidden, floor, middle_splice
+from voe.sim.rollout import Recording, simulate
+from voe.sim.scene import Body, Occluder, Scene
 
 
 class Gravity(Concept):
     name = "gravity"
-    version = 2
-    kind = "pair"
-    confounded = True  # a branch pair: impossible frames are new (see probes/README)
+    version = 3
+    kind = "quadruplet"
+    conditions = ("perceptual", "occluded")
+    balance = {"occluded": "F+M+T2+P+V+H+D", "perceptual": "F+P+V+H"}
 
     def _sample(self, rng: np.random.Generator, ctx: Context) -> dict[str, Any]:
         r = self.ranges
         look = self.random_look(rng)
-        direction = 1 if rng.random() < 0.5 else -1
-        vx, vy = direction * self.uniform(rng, r["throw_vx"]), self.uniform(rng, r["throw_vy"])
-        x0 = 5.0 - direction * self.uniform(rng, r["throw_x"])
-        lo, hi = r["apex_window"]
-        apex = int(round(vy / G / ctx.cfg.dt))  # frame of the top of the arc
-        onset_at = apex + int(rng.integers(lo, hi + 1))  # the last frame with gravity on
-        return {"main_slots": list(ctx.slots[:1]), "look": look, "direction": direction,
-                "x0": x0, "y0": FLOOR_Y + look["height"] / 2 + self.uniform(rng, r["throw_height"]),
-                "vx": vx, "vy": vy, "at": onset_at,
-                # the pillar is centred where the object is when gravity goes off
-                "pillar": [x0 + vx * onset_at * ctx.cfg.dt, look["width"] + self.uniform(rng, r["pillar_margin"])]}
+        h = look["height"]
+        bottom = FLOOR_Y + self.uniform(rng, r["screen_bottom"])
+        top = bottom + self.uniform(rng, r["screen_height"])
+        apex = bottom + (top - bottom - h) * self.uniform(rng, r["apex_frac"])  # ball bottom at the top
+        y_thrown = FLOOR_Y + h / 2  # resting on the floor when thrown
+        return {"main_slots": list(ctx.slots[:1]), "look": look, "x": self.uniform(rng, r["x"]),
+                "screen_bottom": bottom, "screen_top": top,
+                "y_thrown": y_thrown, "vy_thrown": float(np.sqrt(2 * G * (apex - (y_thrown - h / 2)))),
+                "y_dropped": top + self.uniform(rng, r["drop_gap"]) + h / 2,
+                "screen_width": look["width"] + self.uniform(rng, r["screen_margin"])}
 
-    def build(self, p: dict[str, Any], ctx: Context) -> Scene:
+    def build(self, p: dict[str, Any], ctx: Context, thrown: bool) -> Scene:
+        """The scene with the ball thrown up from the floor (A) or dropped from above (B)."""
         look = p["look"]
-        obj = Body(slot=ctx.slots[0], shape=look["shape"], width=look["width"], height=look["height"],
-                   x=p["x0"], y=p["y0"], vx=p["vx"], vy=p["vy"], friction=0.0, elasticity=0.2,
-                   intensity=look["intensity"])
-        cx, width = p["pillar"]
-        occ = [] if ctx.visible else [screen(cx, width, PILLAR, pad=ctx.pixel)]
-        return self.scene(ctx, [obj], [floor(friction=0.0, elasticity=0.3)], occ)
+        ball = Body(slot=ctx.slots[0], shape=look["shape"], width=look["width"], height=look["height"],
+                    x=p["x"], y=p["y_thrown"] if thrown else p["y_dropped"],
+                    vy=p["vy_thrown"] if thrown else 0.0, friction=0.0, elasticity=0.2,
+                    intensity=look["intensity"])
+        half, pad = p["screen_width"] / 2, ctx.pixel
+        occ = [] if ctx.visible else [Occluder(p["x"] - half - pad, p["screen_bottom"] - pad,
+                                               p["x"] + half + pad, p["screen_top"] + pad)]
+        return self.scene(ctx, [ball], [floor(friction=0.0, elasticity=0.3)], occ)
 
-    def _pair(self, p: dict[str, Any], ctx: Context) -> tuple[Recording, Recording, int]:
+    def _possible_pair(self, p: dict[str, Any], ctx: Context) -> tuple[Recording, Recording, np.ndarray]:
+        a, b = (simulate(self.build(p, ctx, thrown), ctx.cfg) for thrown in (True, False))
         slot = ctx.slots[0]
-        scene = self.build(p, ctx)
-        at = p["at"]
-        if not 3 <= at <= ctx.cfg.n_frames - 8:
-            raise ValueError(f"gravity: gravity goes off at frame {at}; adjust throw_vy in spec.yaml")
-
-        def float_on(world: World) -> None:
-            world.set_gravity(slot, False)  # velocity untouched: only gravity is broken
-
-        return pair(scene, ctx.cfg, edited(at, float_on), self.id, rollout(scene, ctx.cfg))
+        if ctx.visible:  # where the two paths are closest, while the dropped ball is in the air
+            ya, yb = a.states[:, slot, 1], b.states[:, slot, 1]  # (T,)
+            falling = np.flatnonzero(b.states[:, slot, 4] < -0.5)
+            s = int(falling[np.argmin(np.abs(ya - yb)[falling])]) if falling.size else 0
+            if not 3 <= s <= ctx.cfg.n_frames - 3:
+                raise ValueError("gravity: the two paths never come close; adjust the ranges in spec.yaml")
+        else:
+            s = middle_splice(common_hidden(a, b, [slot]), f"{self.id} behind the screen")
+        return a, b, np.arange(ctx.cfg.n_frames) >= s

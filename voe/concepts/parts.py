@@ -85,3 +85,27 @@ def splice_frames(hidden: np.ndarray, k: int = SPLICE_K) -> np.ndarray:
     """
     have = set(int(t) for t in hidden)
     return np.array([s for s in sorted(have) if all(t in have for t in range(s - k, s + k))], dtype=int)
+
+
+def common_hidden(a: Recording, b: Recording, slots: list[int] | tuple[int, ...]) -> np.ndarray:
+    """Frames where every slot in ``slots`` exists and is hidden in both clips (sorted)."""
+    hid = np.ones(len(a), dtype=bool)
+    for rec in (a, b):
+        for s in slots:
+            hid &= rec.exists[:, s] & ~rec.present[:, s]
+    return np.flatnonzero(hid)
+
+
+def middle_splice(hidden: np.ndarray, what: str, k: int = SPLICE_K) -> int:
+    """The splice frame in the middle of the first run of ``hidden`` frames that has room for
+    ``k`` hidden frames on each side (the largest ``T_k`` the run allows).
+
+    Raises:
+        ValueError: no such frame; the concept's ranges hide the objects too briefly.
+    """
+    cand = splice_frames(hidden, k)
+    if cand.size == 0:
+        raise ValueError(f"{what}: hidden for too few frames ({hidden.size}) for a splice with {k} "
+                         "hidden frames on each side; widen the screen in spec.yaml")
+    run = cand[: int(np.argmax(np.diff(np.append(cand, -9)) != 1)) + 1]  # first contiguous run
+    return int(run[len(run) // 2])

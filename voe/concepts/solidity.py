@@ -1,16 +1,22 @@
-"""Solidity: objects do not pass through shelves or walls.
+"""Solidity: objects do not pass through walls.
 
-Two events, drawn per set. Shelf: an object is dropped onto a shelf above the floor; possible, it
-lands and rests there; impossible, from the frame it touches the shelf it passes through and lands
-on the floor below. Wall: an object is thrown at a tall wall; possible, it bounces back; impossible,
-it flies through and falls on the far side. The impossible object stops colliding with static
-geometry just before contact and collides again once it has fully cleared the barrier, so it
-still lands on the floor. Occluded variant: the contact point is behind a screen (a band around the
-shelf, or a screen in front of the wall's lower part) and the outcome is seen afterwards, the
-object coming out under the band or on the far side of the wall. Visible variant: no screen.
+A wall stands on the floor; a screen hides its lower part (its top stands out above the screen, so
+the wall is always in view). Possible A: an object slides along the frictionless floor from the
+left, goes behind the screen, bounces off the wall and comes back out on the left. Possible B: the
+mirror image, the object coming from the right and going back to the right. Both objects are
+behind the screen on the same frames, where A's and B's frames are identical (only the screen and
+the wall's top show). Impossible AB / BA splice A and B in the middle of those frames: the object
+goes in on one side of the wall and comes out on the other, as if it had passed through it.
 
-Pair, not splice: a splice of two possible clips with the same barrier teleports the object
-between their trajectories; it never shows an object moving continuously through the barrier.
+Occluded (verdict): the splice falls with the object hidden for at least 2 frames on each side, so
+the impossible pair holds exactly the frames, the per-step changes and the 3-frame windows of the
+possible pair, and the same object positions, speeds and heights (F+M+T2+P+V+H+D). Only the
+history (which side it came from) and the outcome (which side it leaves on) disagree, and only
+the wall makes them disagree. Perceptual: no screen; the splice falls at contact, so the object
+jumps across the wall in view (a change detector sees it).
+
+v1 (a pair: the object replayed with collisions switched off) showed the impossible object in
+places the possible one never visits, and moving more: framecopy and a motion-energy scorer passed.
 """
 
 from __future__ import annotations
@@ -20,96 +26,51 @@ from typing import Any
 import numpy as np
 
 from voe.concepts.base import Concept, Context
-from voe.concepts.branch import edited, first_difference, pair, rollout
-from voe.concepts.parts import FLOOR_Y, G, floor
-from voe.sim.rollout import Recording
-from voe.sim.scene import Body, Occluder, Scene, Segment
-from voe.sim.world import World
+from voe.concepts.parts import FLOOR_Y, common_hidden, floor, middle_splice, on_floor, screen
+from voe.sim.rollout import Recording, simulate
+from voe.sim.scene import Scene, Segment
 
-BAR_R = 0.1  # shelf / wall half thickness
-TOP = 7.2  # the main event stays below the distractor lane
+BAR_R = 0.1  # wall half thickness
 
 
 class Solidity(Concept):
     name = "solidity"
-    version = 1
-    kind = "pair"
-    confounded = True  # a branch pair: impossible frames are new (see probes/README)
+    version = 2
+    kind = "quadruplet"
+    conditions = ("perceptual", "occluded")
+    balance = {"occluded": "F+M+T2+P+V+H+D", "perceptual": "F+P+V+H"}
 
     def _sample(self, rng: np.random.Generator, ctx: Context) -> dict[str, Any]:
         r = self.ranges
         look = self.random_look(rng)
-        event = "shelf" if rng.random() < 0.5 else "wall"
-        direction = 1 if rng.random() < 0.5 else -1
-        p: dict[str, Any] = {"main_slots": list(ctx.slots[:1]), "look": look, "event": event,
-                             "direction": direction,
-                             "elasticity": self.uniform(rng, r["elasticity"])}
         w, h = look["width"], look["height"]
-        if event == "shelf":
-            ys = self.uniform(rng, r["shelf_y"])
-            drop = min(self.uniform(rng, r["drop"]), TOP - ys - BAR_R - h)
-            vx = direction * self.uniform(rng, r["drift"])
-            x_land = self.uniform(rng, r["centre_x"])
-            t_fall = np.sqrt(2 * drop / G)
-            screen_w = w + self.uniform(rng, r["screen_margin"])
-            length = max(screen_w, w) + self.uniform(rng, r["shelf_extra"])
-            p.update(shelf_y=ys, shelf_x=[x_land - length / 2, x_land + length / 2],
-                     x0=x_land - vx * t_fall, y0=ys + BAR_R + drop + h / 2, vx=vx, vy=0.0,
-                     screen=[x_land - screen_w / 2, ys - BAR_R - self.uniform(rng, [0.3, 0.5]),
-                             x_land + screen_w / 2, ys + BAR_R + h + self.uniform(rng, [0.4, 0.7])])
-        else:
-            wx = self.uniform(rng, r["centre_x"])
-            speed = self.uniform(rng, r["speed"])
-            t_hit = self.uniform(rng, r["t_hit"])
-            vy_hit = self.uniform(rng, r["vy_hit"])
-            yc = FLOOR_Y + self.uniform(rng, r["hit_bottom"]) + h / 2
-            vy0 = vy_hit + G * t_hit
-            y0 = yc - vy0 * t_hit + 0.5 * G * t_hit**2
-            lift = max(0.0, FLOOR_Y + 0.2 - (y0 - h / 2))  # never start inside the floor
-            y0, yc = y0 + lift, yc + lift
-            x_hit = wx - direction * (BAR_R + w / 2)
-            margin = self.uniform(rng, r["screen_margin"]) / 2
-            scr_top = yc + h / 2 + self.uniform(rng, [0.5, 0.8])
-            wall_top = min(TOP, max(self.uniform(rng, r["wall_top"]), scr_top + 0.6, yc + h / 2 + 1.0))
-            p.update(wall_x=wx, wall_top=wall_top, x0=x_hit - direction * speed * t_hit, y0=y0,
-                     vx=direction * speed, vy=vy0,
-                     screen=[wx - (w + BAR_R + margin), FLOOR_Y - 0.3, wx + w + BAR_R + margin, scr_top])
-        return p
+        wx = self.uniform(rng, r["wall_x"])
+        speed = self.uniform(rng, r["speed"])
+        t_hit = self.uniform(rng, r["t_hit"])
+        screen_w = 2 * (BAR_R + w + self.uniform(rng, r["screen_margin"]))
+        screen_h = h + self.uniform(rng, r["screen_above"])
+        return {"main_slots": list(ctx.slots[:1]), "look": look, "wall_x": wx,
+                "wall_top": FLOOR_Y + screen_h + self.uniform(rng, r["wall_above"]),
+                "speed": speed, "x_left": wx - BAR_R - w / 2 - speed * t_hit,
+                "elasticity": self.uniform(rng, r["elasticity"]),
+                "screen_width": screen_w, "screen_height": screen_h + 0.3}
 
-    def build(self, p: dict[str, Any], ctx: Context) -> Scene:
-        """The clip's scene (also used by tests to locate the barrier)."""
-        look = p["look"]
-        obj = Body(slot=ctx.slots[0], shape=look["shape"], width=look["width"], height=look["height"],
-                   x=p["x0"], y=p["y0"], vx=p["vx"], vy=p["vy"], friction=0.5,
-                   elasticity=p["elasticity"], intensity=look["intensity"])
-        if p["event"] == "shelf":
-            x0, x1 = p["shelf_x"]
-            bar = Segment((x0, p["shelf_y"]), (x1, p["shelf_y"]), BAR_R, 0.5, 0.5, "shelf")
-        else:
-            bar = Segment((p["wall_x"], FLOOR_Y), (p["wall_x"], p["wall_top"]), BAR_R, 0.0, 0.8, "wall")
-        occ = [] if ctx.visible else [Occluder(*p["screen"])]
-        return self.scene(ctx, [obj], [floor(friction=0.5), bar], occ)
+    def build(self, p: dict[str, Any], ctx: Context, side: int) -> Scene:
+        """The scene with the object starting on the left (``side=-1``) or right (``+1``)."""
+        x0 = p["x_left"] if side < 0 else 2 * p["wall_x"] - p["x_left"]
+        obj = on_floor(p["look"], ctx.slots[0], x0, -side * p["speed"], elasticity=p["elasticity"])
+        wall = Segment((p["wall_x"], FLOOR_Y), (p["wall_x"], p["wall_top"]), BAR_R, 0.0, 1.0, "wall")
+        occ = [] if ctx.visible else [screen(p["wall_x"], p["screen_width"], p["screen_height"], pad=ctx.pixel)]
+        return self.scene(ctx, [obj], [floor(), wall], occ)
 
-    def _pair(self, p: dict[str, Any], ctx: Context) -> tuple[Recording, Recording, int]:
+    def _possible_pair(self, p: dict[str, Any], ctx: Context) -> tuple[Recording, Recording, np.ndarray]:
+        a, b = (simulate(self.build(p, ctx, side), ctx.cfg) for side in (-1, 1))
         slot = ctx.slots[0]
-        scene = self.build(p, ctx)
-        possible = rollout(scene, ctx.cfg)
-        # the ghost ignores static geometry from the start; it leaves the possible path at contact
-        _, ghost = rollout(scene, ctx.cfg, edited(0, lambda w: w.set_passable(slot, True, False)))
-        contact = first_difference(possible[1][:, slot, :6], ghost[:, slot, :6])
-        if contact < 2 or contact >= ctx.cfg.n_frames - 4:
-            raise ValueError(f"solidity: contact at frame {contact}; adjust the ranges in spec.yaml")
-
-        def cleared(world: World) -> bool:
-            lo, hi = world.bboxes()[slot]
-            if p["event"] == "shelf":
-                return hi[1] < p["shelf_y"] - BAR_R - 0.02
-            edge = p["wall_x"] + p["direction"] * (BAR_R + 0.02)
-            return lo[0] > edge if p["direction"] > 0 else hi[0] < edge
-
-        def restore(t: int, world: World) -> None:
-            if cleared(world):
-                world.set_passable(slot, statics=False, objects=False)
-
-        hook = edited(contact - 1, lambda w: w.set_passable(slot, statics=True, objects=False), restore)
-        return pair(scene, ctx.cfg, hook, f"{self.id} {p['event']}", possible)
+        if ctx.visible:  # the first frame the object has come back off the wall
+            vx = a.states[:, slot, 3]  # (T,)
+            s = int(np.argmax(np.nan_to_num(vx) < 0))
+            if s == 0:
+                raise ValueError("solidity: the object never bounces; adjust t_hit in spec.yaml")
+        else:
+            s = middle_splice(common_hidden(a, b, [slot]), f"{self.id} behind the screen")
+        return a, b, np.arange(ctx.cfg.n_frames) >= s
