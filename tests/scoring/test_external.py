@@ -125,3 +125,13 @@ def test_fuzzed_tables_give_only_one_line_errors(synth_probes, tmp_path):
             assert str(path) in str(exc) and "\n" not in str(exc)
 
     check()
+
+
+def test_scoring_a_table_never_imports_torch(table, synth_probes, tmp_path):
+    table.to_parquet(tmp_path / "s.parquet")
+    code = (f"import sys; from voe.cli.main import main; sys.argv = ['voe', 'score', '--probes', "
+            f"{str(synth_probes)!r}, '--surprises', {str(tmp_path / 's.parquet')!r}, '--out', "
+            f"{str(tmp_path / 'run')!r}]\ntry:\n    main()\nexcept SystemExit:\n    pass\n"
+            "assert not [m for m in sys.modules if m.split('.')[0] == 'torch'], 'torch imported'")
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert res.returncode == 0 and (tmp_path / "run" / "run.json").is_file(), res.stderr

@@ -27,6 +27,7 @@ import pandas as pd
 
 from voe.errors import VoeError
 from voe.io.clipkey import clip_key
+from voe.io.paths import portable_ref
 from voe.io.probeset import ProbeSet, load_probe_set
 from voe.io.provenance import sha256_file
 from voe.scoring.store import SURPRISE_KINDS, write_run
@@ -133,7 +134,7 @@ def score_surprises(probes: ProbeSet | str | Path, surprises: Path, out: Path, *
                   "surprises": {"file": surprises.name, "sha256": sha256_file(surprises),
                                 "per_frame": "frame" in table.columns}},
         "surprise_kind": kind,
-        "probes": {"path": str(Path(ps.path).resolve()), "manifest_sha256": ps.manifest_sha256,
+        "probes": {"path": portable_ref(ps.path, out), "manifest_sha256": ps.manifest_sha256,
                    "concepts": list(ps.manifest.get("concepts", []))},
         "check": "not applicable (computed outside voe)",
         "launcher": {"name": "external", "world_size": 1}, "clips_from_cache": 0, "wall_time_s": 0.0,
