@@ -91,11 +91,12 @@ def table_to_nll(path: Path, df: pd.DataFrame, keys: list[str], T: int) -> np.nd
         row = int(np.flatnonzero(~np.isfinite(surprise))[0])
         raise _bad(path, f"surprise must be a finite number; row {row} has {df['surprise'].iloc[row]!r}")
     pos = {k: i for i, k in enumerate(keys)}
-    unknown = sorted(set(df["clip_key"]) - set(pos))
+    present = set(df["clip_key"])
+    unknown = sorted(present - set(pos))
     if unknown:
         raise _bad(path, f"{len(unknown)} clip_key(s) are not clips of this probe set, e.g. {unknown[0]!r}; "
                          "was it made from another export?")
-    absent = [k for k in keys if k not in set(df["clip_key"])]
+    absent = [k for k in keys if k not in present]
     if absent:
         raise _bad(path, f"{len(absent)} of {len(keys)} clips have no surprise, e.g. {absent[0]!r}")
     if "frame" in df.columns:
