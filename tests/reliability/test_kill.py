@@ -114,6 +114,9 @@ def test_validate_suite_scratch_in_the_user_cache(tmp_path):
     assert proc.returncode == 0, proc.stderr
     assert (out / "matrix.csv").exists() and (scratch / "probes" / "manifest.json").exists()
     assert not (tmp_path / "voe-work").exists()
+    prov = json.loads((out / "provenance.json").read_text())      # portable: no absolute path
+    assert prov["probes"] == "../cache/voe/validity-2x10-seed0/probes" and len(prov["probes_manifest_sha256"]) == 64
+    assert str(tmp_path) not in (out / "validity.md").read_text() + (out / "provenance.json").read_text()
 
 
 @pytest.mark.slow

@@ -75,8 +75,12 @@ def table_to_nll(path: Path, df: pd.DataFrame, keys: list[str], T: int) -> np.nd
         raise _bad(path, f"lacks column(s) {missing}; expected clip_key, [frame,] surprise")
     if df.empty:
         raise _bad(path, "has no rows")
-    if not all(isinstance(k, str) for k in df["clip_key"]):
-        row = int(np.flatnonzero([not isinstance(k, str) for k in df["clip_key"]])[0])
+    try:
+        key_list = df["clip_key"].tolist()
+    except Exception as exc:  # noqa: BLE001 - a parquet string column holding bytes that are not UTF-8
+        raise _bad(path, f"column 'clip_key' is not valid UTF-8 text ({exc})") from exc
+    if not all(isinstance(k, str) for k in key_list):
+        row = int(np.flatnonzero([not isinstance(k, str) for k in key_list])[0])
         raise _bad(path, f"column 'clip_key' must hold text keys; row {row} has {df['clip_key'].iloc[row]!r}")
     for col in ("surprise", "frame"):
         if col in df.columns and (not pd.api.types.is_numeric_dtype(df[col]) or pd.api.types.is_bool_dtype(df[col])):

@@ -236,7 +236,7 @@ def _sd_segment(px, py, a, b, r: float) -> np.ndarray:
     return np.hypot(px - ax - h * vx, py - ay - h * vy) - r
 
 
-@lru_cache(maxsize=64)
+@lru_cache(maxsize=16)  # the clips of a set share one; 16 bound memory at 224 px RGB too
 def renderer_cached(statics: tuple[Segment, ...], occluders: tuple[Occluder, ...],
                     extent: tuple[float, float], size: int, rgb: bool = False) -> Renderer:
     """A renderer shared by every clip with the same static geometry (the clips of a set)."""
