@@ -20,7 +20,10 @@ ROLES = ("possible", "impossible")
 
 
 def _text(df: pd.DataFrame, col: str, path: Path) -> None:
-    vals = df[col].to_numpy()
+    try:
+        vals = df[col].to_numpy()
+    except Exception as exc:  # noqa: BLE001 - pyarrow strings that are not UTF-8 fail on conversion
+        raise RunError(f"{path}: column '{col}' is not valid text ({exc})") from exc
     bad = [i for i, v in enumerate(vals) if not isinstance(v, str)]
     if bad:
         raise RunError(f"{path}: column '{col}' must hold text; row {bad[0]} has {vals[bad[0]]!r:.60}")
