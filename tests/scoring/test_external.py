@@ -135,3 +135,31 @@ def test_scoring_a_table_never_imports_torch(table, synth_probes, tmp_path):
             "assert not [m for m in sys.modules if m.split('.')[0] == 'torch'], 'torch imported'")
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert res.returncode == 0 and (tmp_path / "run" / "run.json").is_file(), res.stderr
+
+
+def test_export_then_outside_tool_then_score(tiny_probes, tmp_path):
+    """The round trip a user makes: export png clips, score them with an outside tool that sees only
+    the export (metadata.parquet and files), score its table, report ranks like any run."""
+    from PIL import Image
+
+    from voe.io.export import export_probe_set
+
+    export_probe_set(tiny_probes, tmp_path / "ex", fmt="png", size=32)
+    meta = pd.read_parquet(tmp_path / "ex" / "metadata.parquet")
+    rows = []
+    for key, rel in zip(meta["clip_key"], meta["path"], strict=True):  # the "outside tool"
+        files = sorted((tmp_path / "ex" / rel).rglob("*.png"))
+        frames = np.stack([np.asarray(Image.open(f), dtype=np.float64) for f in files])  # (T, H, W[, 3])
+        change = np.abs(np.diff(frames, axis=0)).mean(axis=tuple(range(1, frames.ndim)))  # (T-1,)
+        rows += [{"clip_key": key, "frame": t + 1, "surprise": float(c)} for t, c in enumerate(change)]
+    pd.DataFrame(rows).to_csv(tmp_path / "s.csv", index=False)
+    res = subprocess.run([sys.executable, "-m", "voe", "score", "--probes", str(tiny_probes), "--surprises",
+                          str(tmp_path / "s.csv"), "--surprise-kind", "error", "--name", "motion",
+                          "--out", str(tmp_path / "run")], capture_output=True, text=True)
+    assert res.returncode == 0, res.stderr
+    run = load_run(tmp_path / "run")
+    ps = load_probe_set(tiny_probes)
+    assert run.surprise_kind == "error" and run.label == "motion" and len(run.clips) == len(ps)
+    assert np.isnan(run.nll[:, 0]).all() and not np.isnan(run.nll[:, 1:]).any()
+    t = concept_table([run], n_boot=200)
+    assert len(t) == ps.index["concept"].nunique() and t["accuracy"].between(0, 1).all()

@@ -59,12 +59,17 @@ def read_table(path: Path) -> pd.DataFrame:
     return df
 
 
-def _integers(path: Path, col: pd.Series) -> np.ndarray:
+def _frames(path: Path, col: pd.Series, T: int) -> np.ndarray:
+    """The ``frame`` column as integers in ``0..T-1`` (checked before any cast can overflow)."""
     vals = col.astype(float).to_numpy()
     ok = np.isfinite(vals) & (vals == np.round(vals))
     if not ok.all():
         row = int(np.flatnonzero(~ok)[0])
         raise _bad(path, f"column 'frame' must hold whole numbers; row {row} has {col.iloc[row]!r}")
+    out = (vals < 0) | (vals >= T)
+    if out.any():
+        row = int(np.flatnonzero(out)[0])
+        raise _bad(path, f"frame {col.iloc[row]!r} in row {row} is outside 0..{T - 1}")
     return vals.astype(np.int64)
 
 
@@ -75,8 +80,12 @@ def table_to_nll(path: Path, df: pd.DataFrame, keys: list[str], T: int) -> np.nd
         raise _bad(path, f"lacks column(s) {missing}; expected clip_key, [frame,] surprise")
     if df.empty:
         raise _bad(path, "has no rows")
-    if not all(isinstance(k, str) for k in df["clip_key"]):
-        row = int(np.flatnonzero([not isinstance(k, str) for k in df["clip_key"]])[0])
+    try:
+        key_list = df["clip_key"].tolist()
+    except Exception as exc:  # noqa: BLE001 - a parquet string column holding bytes that are not UTF-8
+        raise _bad(path, f"column 'clip_key' is not valid UTF-8 text ({exc})") from exc
+    if not all(isinstance(k, str) for k in key_list):
+        row = int(np.flatnonzero([not isinstance(k, str) for k in key_list])[0])
         raise _bad(path, f"column 'clip_key' must hold text keys; row {row} has {df['clip_key'].iloc[row]!r}")
     for col in ("surprise", "frame"):
         if col in df.columns and (not pd.api.types.is_numeric_dtype(df[col]) or pd.api.types.is_bool_dtype(df[col])):
@@ -96,10 +105,7 @@ def table_to_nll(path: Path, df: pd.DataFrame, keys: list[str], T: int) -> np.nd
     if absent:
         raise _bad(path, f"{len(absent)} of {len(keys)} clips have no surprise, e.g. {absent[0]!r}")
     if "frame" in df.columns:
-        frame = _integers(path, df["frame"])
-        if frame.min() < 0 or frame.max() >= T:
-            row = int(np.flatnonzero((frame < 0) | (frame >= T))[0])
-            raise _bad(path, f"frame {frame[row]} in row {row} is outside 0..{T - 1}")
+        frame = _frames(path, df["frame"], T)
     else:
         frame = np.full(len(df), T - 1)
     rows = df["clip_key"].map(pos).to_numpy()
