@@ -116,7 +116,7 @@ class ShardedArray:
                 shape, fortran, dtype = (np.lib.format.read_array_header_1_0(fh) if version == (1, 0)
                                          else np.lib.format.read_array_header_2_0(fh))
                 offset = fh.tell()
-        except (OSError, ValueError) as exc:
+        except Exception as exc:  # a damaged header raises ValueError, SyntaxError, TokenError...
             raise ProbeSetError(f"{path} cannot be read: {exc}") from exc
         if fortran or dtype.hasobject:
             raise ProbeSetError(f"{path}: not a C-ordered plain array; regenerate the set")
