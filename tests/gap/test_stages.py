@@ -164,3 +164,17 @@ def test_null_runs_the_same_rounds_forcing_in_its_best_candidate():
     assert set(r[1].gains) == set(cands) - {r[0].forced}  # round 2 fits what is left on top of round 1's
     assert t1 >= 0.05 and r[0].threshold >= max(g for g in r[0].gains.values())
     assert null.threshold(0) == r[0].threshold and len(null.result()) == 2  # no recomputation
+
+
+def test_flight_regression_on_top_of_an_accepted_region_effect():
+    # bench case 11 crashed: round 2's regression evaluated round 1's friction_region on flight samples
+    from voe.gap.prefit import prefit_starts
+
+    scene, eps = flight_episodes("linear_drag", [0.3], n=2, duration=1.0, seed=2)
+    ctx = context_for(scene, eps)
+    cur = EFFECTS.get("friction_region")()
+    cur._radius = np.zeros(2)  # as after a rollout on the two-body bench scene
+    cand = EFFECTS.get("linear_drag")()
+    lo, hi = cand.bounds(ctx)
+    out = prefit_starts(cand, cand.starts(ctx), lo, hi, cand.scale(ctx), ctx.flight, scene, cur, np.array([0.3, 0.0, 1.0]))
+    assert out and abs(out[0][0] - 0.3) < 0.1

@@ -103,7 +103,7 @@ def _missing(effect: Effect, params: np.ndarray, s: FlightSamples, scene: SceneS
     split = effect.split(params) if isinstance(effect, EffectSum) else [params]
     acc, alpha = np.zeros_like(s.dacc), np.zeros_like(s.dalpha)
     for e, p in zip(parts, split, strict=True):
-        if not e.has_forces:
+        if not e.has_forces or not e.flight_regression:  # contact, region and joint terms: nothing in flight
             continue
         f, tau = e._forces(s.state, e.check(p))
         m = e.mask(scene)[s.body]  # (N,)
