@@ -97,7 +97,7 @@ def build_report(run_dirs: Sequence[str | Path], out: Path, title: str | None = 
 
     runs = load_runs(run_dirs)
     check = check_probe_set(runs[0].probes_path, runs[0].manifest_sha256,
-                            Path(validity) if validity is not None else None, n_boot=n_boot)
+                            Path(validity) if validity is not None else None, n_boot=n_boot, runs=runs)
     summary = apply_confounding(concept_table(runs, n_boot=n_boot, seed=seed), check.confounds)
     conditions = condition_table(runs, n_boot=n_boot, seed=seed)
     concepts = sorted(summary["concept"].unique())
