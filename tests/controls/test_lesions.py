@@ -46,15 +46,7 @@ def _accuracy(model, root: Path, calib, concept: str, visible) -> float:
     return float(sets["accuracy"].mean())
 
 
-#: Energy-v3 is the time reversal of a dissipative bounce (F+M balanced). The oracle that allows
-#: bounces to gain energy still finds the reversed bounce more surprising than the forward one
-#: (measured 1.00), so what the intact oracle passes on Energy-v3 is not only the energy gain:
-#: an open finding (probes/energy/README.md), kept visible here rather than declared away.
-_OPEN = {"energy-gain": "energy-gain lesion does not break Energy-v3 (reversed bounces cost it too)"}
-
-
-@pytest.mark.parametrize("lesion", [pytest.param(n, marks=pytest.mark.xfail(strict=True, reason=_OPEN[n]))
-                                    if n in _OPEN else n for n in sorted(LAW)])
+@pytest.mark.parametrize("lesion", sorted(LAW))
 def test_lesion_breaks_its_law(lesion, setting):
     root, calib = setting
     concept, visible = LAW[lesion]
