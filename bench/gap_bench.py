@@ -1,7 +1,8 @@
 """Benchmark the gap finder on recordings with a concealed effect (or none).
 
 Usage: python bench/gap_bench.py [--cases 33] [--clean N] [--noise 0.001] [--jobs 2] [--truths a,b]
-                                 [--episodes 12] [--duration 3]
+                                 [--episodes 12] [--duration 3] [--compound N] [--outside N]
+                                 [--clean-kinds white,coloured]
 Same code as ``voe gap bench``; prints a confusion matrix, the false-discovery rate on clean
 recordings with its exact 95 % upper bound, parameter-recovery error and the median held-out
 RMSE reduction. ``--cases`` cycle through every truth (``none`` included); ``--clean`` extra clean
@@ -15,7 +16,8 @@ import argparse
 import os
 import time
 
-from voe.gap.bench import TRUTHS, run_bench, summary_lines
+from voe.gap.bench import NOISE_KINDS, TRUTHS, run_bench
+from voe.gap.bench_score import summary_lines
 
 
 def main() -> None:
@@ -28,13 +30,18 @@ def main() -> None:
     ap.add_argument("--truths", default=",".join(TRUTHS), help="comma-separated truths to cycle through")
     ap.add_argument("--episodes", type=int, default=12, help="episodes per case (the finder holds out a third)")
     ap.add_argument("--duration", type=float, default=3.0, help="seconds per episode")
+    ap.add_argument("--compound", type=int, default=0, help="cases cycling through the compound truths")
+    ap.add_argument("--outside", type=int, default=0, help="cases cycling through the out-of-library truths")
+    ap.add_argument("--clean-kinds", default="white,coloured", help=f"noise of the extra clean cases, from {NOISE_KINDS}")
     a = ap.parse_args()
     t0 = time.perf_counter()
     truths = tuple(a.truths.split(","))
     results = run_bench(a.cases, a.noise, a.seed, a.jobs, clean=a.clean, truths=truths, episodes=a.episodes,
-                        duration=a.duration, progress=lambda r: print(
-        f"  case {r['seed']}: true {r['truth']:<22} found {r['found']:<22} group {r['group']} "
-        f"rmse {r['before']:.4g} -> {r['after']:.4g} param_err {r['param_error']:.3f}", flush=True))
+                        duration=a.duration, compound=a.compound, outside=a.outside,
+                        clean_kinds=tuple(a.clean_kinds.split(",")), progress=lambda r: print(
+        f"  case {r['seed']}: true {r['truth']:<26} {r['noise_kind']:<8} named {','.join(r['names']) or '-':<26} "
+        f"{r['verdict']:<11} rmse {r['before']:.4g} -> {r['after']:.4g} param_err {r['param_error']:.3f} "
+        f"covered {r['covered']}", flush=True))
     for line in summary_lines(results, a.noise):
         print(line)
     print(f"wall time {time.perf_counter() - t0:.0f} s for {len(results)} cases (--jobs {a.jobs}, "

@@ -42,12 +42,12 @@ def main() -> None:
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     found = [e["name"] for e in finder.effects_] or ["none"]
     print(f"gap speed: {a.episodes} episodes x {a.duration:g} s at 100 Hz ({n_samples} samples), "
-          f"{len(finder.null_gains_)} candidates, hidden {a.effect}, found {', '.join(found)}")
+          f"{len(finder.problem_.candidates)} candidates, hidden {a.effect}, found {', '.join(found)}")
     print(f"diagnosis wall time: {wall:.1f} s (--jobs {a.jobs}, cpu of the main process {cpu:.1f} s; target <= 60 s on 2 cores; "
           f"os.cpu_count() = {os.cpu_count()}, load average {os.getloadavg()[0]:.1f})")
     print(f"reference raw pymunk stepping of the same episodes (1 ms substeps): {ref:.2f} s")
     print(f"ratio diagnosis / raw stepping: {wall / ref:.0f}x; simulator rollouts of windows: "
-          f"{finder._shooter.n_rollouts} (data), i.e. {wall / max(1, finder._shooter.n_rollouts) * 1e3:.1f} ms per window")
+          f"{finder.problem_.shooter.n_rollouts} (data), i.e. {wall / max(1, finder.problem_.shooter.n_rollouts) * 1e3:.1f} ms per window")
 
 
 if __name__ == "__main__":

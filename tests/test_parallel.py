@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 import ast
+import os
 import threading
 import time
 from pathlib import Path
 
 import pytest
 
-from voe.errors import ConceptError
+from voe.errors import ConceptError, VoeError
 from voe.parallel import parallel_map
 from voe.progress import no_progress, progress
 
@@ -19,6 +20,18 @@ VOE = Path(__file__).resolve().parents[1] / "voe"
 def _slow_square(x: int) -> int:
     time.sleep(0.02 * (x % 3 == 0))  # every third item finishes last: completion order != input order
     return x * x
+
+
+def _tens(x: int) -> int:
+    return x * 10
+
+
+def _nested(x: int) -> int:
+    return sum(parallel_map(_tens, range(x), 2))
+
+
+def _die(x: int) -> int:
+    os._exit(3)  # a worker killed from outside (out of memory) looks like this
 
 
 def _fail_on_5(x: int) -> int:
@@ -70,6 +83,12 @@ def test_forked_workers_inherit_closures_over_unpicklable_state():
             return x + 1
 
     assert list(parallel_map(with_lock, [1, 2, 3], jobs=2, start_method="fork")) == [2, 3, 4]
+
+
+def test_nested_pools_and_dead_workers():
+    assert list(parallel_map(_nested, [3, 4], 2)) == [30, 60]  # e.g. a control generating a world
+    with pytest.raises(VoeError, match="worker process died .* item 0"):
+        list(parallel_map(_die, [1, 2], 2))
 
 
 def test_progress_helper(capsys):

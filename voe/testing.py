@@ -56,8 +56,9 @@ class BlindModel:
 
 
 class RandomModel:
-    """Surprise drawn from an exponential seeded by the clip's bytes: deterministic, invariant to
-    batch, order and keys, and chance-level (matched clips differ somewhere, so their draws do)."""
+    """Surprise at frame t drawn from an exponential seeded by a running hash of frames and states
+    0..t: deterministic, causal, invariant to batch, order and keys, and chance-level (matched clips
+    share their draws until they differ, then draw independently)."""
 
     observation = "states"
 
@@ -67,8 +68,13 @@ class RandomModel:
 
     def frame_nll(self, batch: Batch) -> np.ndarray:
         B, T = batch.shape
-        return np.stack([_rng(batch.frames[b].tobytes() + batch.states[b].tobytes(), self.seed)
-                         .exponential(1.0, T) for b in range(B)])  # (B, T)
+        out = np.empty((B, T))
+        for b in range(B):
+            h = hashlib.sha256(f"voe-random:{self.seed}".encode())
+            for t in range(T):
+                h.update(batch.frames[b, t].tobytes() + batch.states[b, t].tobytes())
+                out[b, t] = _rng(h.digest(), self.seed).exponential(1.0)
+        return out  # (B, T)
 
 
 class PixelSumModel:

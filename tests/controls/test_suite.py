@@ -38,16 +38,19 @@ def test_matrix_from_the_cli_with_a_user_control_in_two_processes(tiny):
     out = tiny / "report"
     res = CliRunner().invoke(app, ["validate-suite", "--probes", str(tiny / "probes"), "--world",
                                    str(tiny / "world"), "--work", str(tiny / "work"), "--out", str(out),
-                                   "--family", "frame-only", "--controls", str(tiny / "mine.yaml"),
+                                   "--family", "knowledge-free", "--controls", str(tiny / "mine.yaml"),
                                    "--jobs", "2"])
     assert res.exit_code == 0, res.output
     m = pd.read_csv(out / "matrix.csv")
-    assert set(m["control"]) == {"frame-only-density", "frame-only-random-0", "frame-only-random-1", "my-constvel"}
+    assert set(m["control"]) == {"density", "motion-energy", "height", "speed", "stress-frame", "stress-step",
+                                 "my-constvel"}
     assert set(m["concept"]) == {"Permanence-v2", "Gravity-v3"}
-    assert {"visible", "occluded", "all"} == set(m["condition"])
-    # frame-only scorers tie exactly on the spliced quadruplets
-    fo = m[m["family"].eq("frame-only") & m["concept"].eq("Permanence-v2")]
-    assert (fo["accuracy"] == 0.5).all() and fo.loc[fo["condition"] == "all", "as_declared"].all()
+    assert {"perceptual", "visible", "occluded", "all"} == set(m["condition"])
+    # single-frame scorers tie exactly on the spliced quadruplets, and those cells could not fail
+    fo = m[m["control"].isin(["density", "stress-frame"]) & m["concept"].eq("Permanence-v2")]
+    assert (fo["accuracy"] == 0.5).all() and fo["as_declared"].all() and not fo["could_fail"].any()
+    assert "cells that could have failed" in res.output and "could not fail (by construction)" in res.output
+    assert (out / "confounds.csv").exists()
     mine = m[(m["control"] == "my-constvel") & (m["condition"] == "all")].set_index("concept")
     assert mine.loc["Permanence-v2", "expected"] == "pass" and mine.loc["Gravity-v3", "expected"] == "fail"
     assert (out / "validity.md").read_text().count("Is the suite valid?") == 1
@@ -55,8 +58,8 @@ def test_matrix_from_the_cli_with_a_user_control_in_two_processes(tiny):
     # a second run reuses every stored run instead of rescoring
     res = CliRunner().invoke(app, ["validate-suite", "--probes", str(tiny / "probes"), "--world",
                                    str(tiny / "world"), "--work", str(tiny / "work"), "--out", str(out),
-                                   "--family", "frame-only", "--controls", str(tiny / "mine.yaml")])
-    assert res.exit_code == 0 and res.output.count("reusing the stored run") == 4
+                                   "--family", "knowledge-free", "--controls", str(tiny / "mine.yaml")])
+    assert res.exit_code == 0 and res.output.count("reusing the stored run") == 1
 
 
 def test_bad_user_controls_get_one_line_errors(tmp_path):
@@ -80,7 +83,7 @@ def test_probes_and_world_of_different_sizes_are_refused_in_one_line(tiny, tmp_p
     generate_world(tmp_path / "w64", 4, 3, SimConfig(size=64))
     res = subprocess.run([sys.executable, "-m", "voe", "validate-suite", "--probes", str(tiny / "probes"),
                           "--world", str(tmp_path / "w64"), "--work", str(tmp_path / "work"),
-                          "--out", str(tmp_path / "out"), "--family", "frame-only"],
+                          "--out", str(tmp_path / "out"), "--family", "knowledge-free"],
                          capture_output=True, text=True, timeout=120)
     assert res.returncode == 1
     assert res.stderr.count("\n") == 1 and "frames but probe set" in res.stderr

@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 
 from voe.gap.effects import EFFECTS
-from voe.gap.finder import _context
 from voe.gap.fit import Fitter
 from voe.gap.shooting import Shooter, make_windows, noise_floor
+from voe.gap.stages import context_for as _context
 
 from .conftest import flight_episodes
 

@@ -4,15 +4,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from voe.gap.bench import ball_box_gap, ball_hits_box, clopper_pearson, make_case, param_error, plan
+from voe.gap.bench import ball_box_gap, ball_hits_box, make_case, param_error, plan
+from voe.gap.bench_score import clopper_pearson
 from voe.gap.effects import EFFECTS
-from voe.gap.finder import _context
 from voe.gap.fit import FitResult, Fitter, extend
 from voe.gap.prefit import flight_samples
 from voe.gap.recordings import Episode
 from voe.gap.rollout import run
 from voe.gap.search import null_threshold, window_gain
 from voe.gap.shooting import Shooter, make_windows, noise_floor
+from voe.gap.stages import context_for as _context
 from voe.sim.scenefile import BodySpec, SceneSpec, SimWorld
 
 from .conftest import flight_episodes
@@ -97,11 +98,17 @@ def test_clopper_pearson_worked_examples():
     assert hi == 1.0 and abs(lo - 0.025 ** (1 / 20)) < 1e-12
 
 
-def test_plan_tops_clean_cases_up_to_twenty():
+def test_plan_tops_clean_cases_up_to_twenty_and_adds_compound_and_outside_truths():
     todo = plan(33)
-    assert sum(t == "none" for _, t in todo) == 20 and len(todo) == 33 + 17
-    assert len({s for s, _ in todo}) == len(todo)
-    assert sum(t == "none" for _, t in plan(33, clean=0)) == 3
+    n_none = sum(t == "none" for _, t, _, _ in todo)
+    assert n_none == 20 and len({s for s, *_ in todo}) == len(todo)
+    rows = plan(22, clean=4, compound=4, outside=2, clean_kinds=("white", "coloured"))
+    assert len(rows) == 32 and len({s for s, *_ in rows}) == 32
+    assert [t for _, t, _, role in rows if role == "compound"] == [
+        "linear_drag+restitution", "quadratic_drag+friction", "constant_acceleration+angular_damping",
+        "rolling_resistance+mass"]
+    assert {t for _, t, _, role in rows if role == "outside"} == {"floor_patch", "gust"}
+    assert [nk for _, _, nk, role in rows if role == "clean"] == ["white", "coloured", "white", "coloured"]
 
 
 def test_ball_hits_box_needs_a_closing_contact():

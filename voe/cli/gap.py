@@ -64,10 +64,11 @@ def bench_cmd(
     jobs: int = typer.Option(1, "--jobs", help="worker processes"),
 ) -> None:
     """Benchmark identification on recordings with a concealed random effect (or none)."""
-    from voe.gap.bench import run_bench, summary_lines
+    from voe.gap.bench import run_bench
+    from voe.gap.bench_score import summary_lines
 
     def show(r: dict) -> None:
-        typer.echo(f"  case {r['seed']}: true {r['truth']:<22} found {r['found']:<22} "
+        typer.echo(f"  case {r['seed']}: true {r['truth']:<22} named {','.join(r['names']) or '-':<22} "
                    f"rmse {r['before']:.4g} -> {r['after']:.4g}")
 
     results = run_bench(cases, noise, seed, jobs, progress=show)

@@ -109,3 +109,28 @@ def show(
     else:
         raise ProbeSetError(f"--out {out}: use a .png, .svg or .gif file")
     typer.echo(f"wrote {out}")
+
+
+@app.command("export")
+@claims_output("dir")
+def export(
+    path: Path = typer.Argument(..., help="Probe-set directory."),
+    out: Path = typer.Option(..., "--out", help="Directory to write (must be new or empty)."),
+    fmt: str = typer.Option("mp4", "--format", help="mp4 (needs the 'video' extra) or png."),
+    size: int = typer.Option(224, help="Frame side in pixels, drawn natively (not upscaled)."),
+    rgb: bool = typer.Option(False, "--rgb", help="Colour frames, one colour per object."),
+    layout: str = typer.Option("flat", help="flat (clips/ + metadata) or intphys (IntPhys dev layout)."),
+    jobs: int = typer.Option(1, min=1, help="Worker processes."),
+    overwrite: bool = typer.Option(False, help="Replace an existing output directory."),
+) -> None:
+    """Export clips for outside tools: opaque names, metadata.parquet/.csv, answers.parquet apart."""
+    from voe.io.export import ExportOptions, export_probe_set
+    from voe.io.probeset import load_probe_set
+    from voe.progress import progress
+
+    ExportOptions(fmt, size, rgb, layout).validate()  # fail before opening anything
+    n_sets = load_probe_set(path).index["set_id"].nunique()
+    with progress(n_sets, "matched sets", "set") as tick:
+        m = export_probe_set(path, out, fmt, size, rgb, layout, overwrite, jobs, tick)
+    typer.echo(f"wrote {m['n_clips']} clips ({fmt}, {size} px, {'RGB' if rgb else 'gray'}, "
+               f"{layout} layout) to {out}; answer key in {out / 'answers.parquet'}")

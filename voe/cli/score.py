@@ -2,40 +2,64 @@
 
 from __future__ import annotations
 
+import os
+from dataclasses import dataclass
 from pathlib import Path
 
 import typer
 
-from voe.cli.common import claims_output
 
+@dataclass(frozen=True)
+class _Opts:
+    """The options of one ``voe score`` call, passed on explicitly."""
 
-def _forward(probes: Path, model: str | None, out: Path, checkpoint: Path | None, model_arg: list[str] | None,
-             batch_size: int, seed: int, no_check: bool, cache: Path | None, device: str | None,
-             bf16: bool, overwrite: bool) -> list[str]:
-    """The same ``voe score`` arguments for each torchrun rank (launcher options dropped)."""
-    argv = ["score", "--probes", str(probes), "--out", str(out), "--batch-size", str(batch_size),
-            "--seed", str(seed)]
-    argv += ["--model", model] if model else []
-    argv += ["--checkpoint", str(checkpoint)] if checkpoint else []
-    for kv in model_arg or []:
-        argv += ["--model-arg", kv]
-    argv += ["--cache", str(cache)] if cache else []
-    argv += ["--device", device] if device else []
-    argv += [flag for flag, on in (("--no-check", no_check), ("--bf16", bf16), ("--overwrite", overwrite)) if on]
-    return argv
+    probes: Path
+    out: Path
+    model: str | None
+    checkpoint: Path | None
+    model_arg: tuple[str, ...]
+    batch_size: int
+    seed: int
+    no_check: bool
+    cache: Path | None
+    no_cache: bool
+    device: str | None
+    bf16: bool
+    launcher: str
+    nproc: int
+    shard: str | None
+    surprises: Path | None
+    surprise_kind: str
+    name: str | None
+    overwrite: bool
+
+    def rank_argv(self) -> list[str]:
+        """The same ``voe score`` arguments for each torchrun rank (launcher options dropped)."""
+        argv = ["score", "--probes", str(self.probes), "--out", str(self.out), "--batch-size",
+                str(self.batch_size), "--seed", str(self.seed), "--model", str(self.model)]
+        argv += ["--checkpoint", str(self.checkpoint)] if self.checkpoint else []
+        for kv in self.model_arg:
+            argv += ["--model-arg", kv]
+        argv += ["--cache", str(self.cache)] if self.cache else []
+        argv += ["--device", self.device] if self.device else []
+        return argv + [flag for flag, on in (("--no-check", self.no_check), ("--bf16", self.bf16),
+                                             ("--overwrite", self.overwrite)) if on]
 
 
 class _Bar:
-    """A progress bar opened at the first finished batch, so a failed pre-run check prints one line."""
+    """Progress, started at the first finished batch (so a failed pre-run check prints one line):
+    a line naming the cache directory, then a bar if stderr is a terminal (logs of torchrun ranks
+    and SLURM tasks stay readable)."""
 
-    def __init__(self, total: int, desc: str) -> None:
-        self.total, self.desc, self.bar = total, desc, None
+    def __init__(self, total: int, desc: str, note: str) -> None:
+        self.total, self.desc, self.note, self.bar = total, desc, note, None
 
     def __call__(self, n: int) -> None:
         if self.bar is None:
             from tqdm import tqdm
 
-            self.bar = tqdm(total=self.total, desc=self.desc, unit="clip", dynamic_ncols=True)
+            typer.echo(f"{self.desc}: {self.total} clips, {self.note}", err=True)
+            self.bar = tqdm(total=self.total, desc=self.desc, unit="clip", dynamic_ncols=True, disable=None)
         self.bar.update(n)
 
     def close(self) -> None:
@@ -43,11 +67,75 @@ class _Bar:
             self.bar.close()
 
 
+def _shard(text: str):
+    """``I/N`` -> the ranks of one job-array task (0-based I)."""
+    from voe.errors import VoeError
+    from voe.scoring.distributed import Ranks
+
+    i, _, n = text.partition("/")
+    if not (i.isdigit() and n.isdigit() and 0 <= int(i) < int(n)):
+        raise VoeError(f"--shard must be I/N with 0 <= I < N (e.g. $SLURM_ARRAY_TASK_ID/8), not {text!r}")
+    return Ranks(int(i), int(n), "shard")
+
+
+def _external(o: _Opts) -> None:
+    from voe.errors import VoeError
+    from voe.scoring.external import score_surprises
+
+    if o.model is not None or o.launcher != "python" or o.shard:
+        raise VoeError("--surprises scores a table computed elsewhere; drop --model, --launcher and --shard")
+    meta = score_surprises(o.probes, o.surprises, o.out, kind=o.surprise_kind, name=o.name, overwrite=o.overwrite)
+    typer.echo(f"wrote {meta['probes']['n_clips']} clips of {o.surprises.name} "
+               f"(surprise kind {meta['surprise_kind']}) to {o.out}")
+
+
+def _torchrun(o: _Opts) -> None:
+    from voe.scoring.distributed import torchrun_argv
+
+    argv = torchrun_argv(o.nproc, o.rank_argv())
+    typer.echo(" ".join(argv), err=True)
+    os.execv(argv[0], argv)
+
+
+def _in_process(o: _Opts) -> None:
+    from voe.cli.common import parse_kv
+    from voe.errors import VoeError
+    from voe.io.probeset import load_probe_set
+    from voe.models.loading import load_model
+    from voe.scoring.cache import default_root
+    from voe.scoring.distributed import from_env
+    from voe.scoring.score import score_probe_set
+
+    ranks = _shard(o.shard) if o.shard else from_env()
+    bar = None
+    try:
+        if o.no_cache and ranks.world > 1:
+            raise VoeError("--no-cache cannot be used with torchrun or --shard: results are handed over in the cache")
+        root = None if o.no_cache else (o.cache or default_root())
+        ps = load_probe_set(o.probes)
+        args = parse_kv(list(o.model_arg))
+        m = load_model(o.model, args, o.checkpoint)
+        rank = f" [rank {ranks.rank}/{ranks.world}]" if ranks.world > 1 else ""
+        note = f"check {'skipped' if o.no_check else 'passed'}, " + (f"cache under {root}" if root else "no cache")
+        bar = _Bar(len(ps) // ranks.world, f"scoring {getattr(m, 'name', o.model)}{rank}", note)
+        meta = score_probe_set(m, ps, o.out, model_ref=o.model, model_args=args, checkpoint=o.checkpoint,
+                               batch_size=o.batch_size, seed=o.seed, check=not o.no_check, cache_root=root,
+                               device=o.device, bf16=o.bf16, overwrite=o.overwrite, ranks=ranks, progress=bar)
+    finally:
+        if bar is not None:
+            bar.close()
+        ranks.close()
+    if o.shard:
+        typer.echo(f"scored shard {o.shard} into the cache under {root}; run again without --shard to write {o.out}")
+    elif meta is not None:
+        typer.echo(f"wrote {meta['probes']['n_clips']} clips scored by {meta['model']['name']} to {o.out} "
+                   f"({meta['wall_time_s']:.1f} s, check {meta['check']}, {meta['clips_from_cache']} from cache)")
+
+
 def register(app: typer.Typer) -> None:
     """Add the top-level ``score`` command to ``app``."""
 
     @app.command("score")
-    @claims_output("dir")
     def score(
         probes: Path = typer.Option(..., "--probes", help="Probe-set directory."),
         out: Path = typer.Option(..., "--out", help="Run directory to write (must be new or empty)."),
@@ -63,63 +151,33 @@ def register(app: typer.Typer) -> None:
         bf16: bool = typer.Option(False, "--bf16", help="bf16 autocast around each frame_nll call (torch models)."),
         launcher: str = typer.Option("python", "--launcher", help="python (this process) or torchrun."),
         nproc: int = typer.Option(2, "--nproc", min=1, help="Ranks for --launcher torchrun."),
+        shard: str | None = typer.Option(None, "--shard", help="I/N: fill the cache with shard I of N only (a SLURM array task); a final run without --shard writes the run."),
         surprises: Path | None = typer.Option(None, "--surprises", help="Score a table computed elsewhere: csv/parquet with clip_key, [frame,] surprise."),
         surprise_kind: str = typer.Option("nll", "--surprise-kind", help="With --surprises: nll, bound or error."),
         name: str | None = typer.Option(None, "--name", help="With --surprises: the model name in reports [default: file stem]."),
         overwrite: bool = typer.Option(False, help="Replace an existing run directory."),
     ) -> None:
         """Score every clip blind (opaque keys, shuffled order) and write frames.parquet, clips.parquet, run.json."""
-        from voe.errors import VoeError
+        import contextlib
 
+        from voe.errors import VoeError
+        from voe.io.outputs import check_output, claim_output
+
+        o = _Opts(probes, out, model, checkpoint, tuple(model_arg or ()), batch_size, seed, no_check, cache,
+                  no_cache, device, bf16, launcher, nproc, shard, surprises, surprise_kind, name, overwrite)
         if launcher not in ("python", "torchrun"):
             raise VoeError(f"--launcher must be python or torchrun, not {launcher!r}")
-        if surprises is not None:
-            if model is not None or launcher != "python":
-                raise VoeError("--surprises scores a table computed elsewhere; drop --model and --launcher")
-            from voe.scoring.external import score_surprises
-
-            meta = score_surprises(probes, surprises, out, kind=surprise_kind, name=name, overwrite=overwrite)
-            typer.echo(f"wrote {meta['probes']['n_clips']} clips of {surprises.name} "
-                       f"(surprise kind {meta['surprise_kind']}) to {out}")
-            return
-        if model is None:
+        if surprises is None and model is None:
             raise VoeError("give --model (a registered id or module:attr) or --surprises FILE")
-        if launcher == "torchrun":
-            import os
-
-            from voe.scoring.distributed import torchrun_argv
-
-            argv = torchrun_argv(nproc, _forward(probes, model, out, checkpoint, model_arg, batch_size, seed,
-                                                 no_check, cache, device, bf16, overwrite))
-            typer.echo(" ".join(argv), err=True)
-            os.execv(argv[0], argv)
-
-        from voe.cli.common import parse_kv
-        from voe.io.probeset import load_probe_set
-        from voe.models.loading import load_model
-        from voe.scoring.cache import default_root
-        from voe.scoring.distributed import from_env
-        from voe.scoring.score import score_probe_set
-
-        ranks = from_env()
-        if no_cache and ranks.world > 1:
-            raise VoeError("--no-cache cannot be used with torchrun: ranks hand their results over in the cache")
-        root = None if no_cache else (cache or default_root())
-        bar = None
-        try:
-            ps = load_probe_set(probes)
-            args = parse_kv(model_arg)
-            m = load_model(model, args, checkpoint)
-            desc = f"scoring {getattr(m, 'name', model)}" + (f" [rank {ranks.rank}/{ranks.world}]" if ranks.world > 1 else "")
-            bar = _Bar(len(ps) // ranks.world, desc)
-            meta = score_probe_set(m, ps, out, model_ref=model, model_args=args, checkpoint=checkpoint,
-                                   batch_size=batch_size, seed=seed, check=not no_check, cache_root=root,
-                                   device=device, bf16=bf16, overwrite=overwrite, ranks=ranks, progress=bar)
-        finally:
-            if bar is not None:
-                bar.close()
-            ranks.close()
-        if meta is not None:
-            typer.echo(f"wrote {meta['probes']['n_clips']} clips scored by {meta['model']['name']} to {out} "
-                       f"({meta['wall_time_s']:.1f} s, check {meta['check']}, "
-                       f"{meta['clips_from_cache']} from cache)")
+        # The output is checked before any work. Its lock is held by the process that writes the
+        # run: not a launcher that execs torchrun (its pid lives on as torchrun's), not a job-array
+        # shard, not a rank other than 0.
+        check_output(out, "dir", overwrite)
+        writes = launcher == "python" and not shard and int(os.environ.get("RANK", "0") or 0) == 0
+        with claim_output(out, "dir", overwrite) if writes else contextlib.nullcontext():
+            if surprises is not None:
+                _external(o)
+            elif launcher == "torchrun":
+                _torchrun(o)
+            else:
+                _in_process(o)

@@ -28,15 +28,13 @@ def rollout(scene: Scene, cfg: SimConfig, hook: Hook | None = None) -> tuple[Rec
     """Simulate a clip; return it with the true states ``(T, K, F)`` (not NaN when hidden)."""
     world = World(scene, cfg.dt, cfg.substeps)
     rec = Recorder(scene, cfg)
-    truth = []
     for t in range(cfg.n_frames):
         if t > 0:
             world.step()
         if hook is not None:
             hook(t, world)
         rec.capture(world)
-        truth.append(world.observe(cfg.n_slots))
-    return rec.result(), np.stack(truth)  # (T, K, F)
+    return rec.result(), rec.truth()  # (T, K, F)
 
 
 def edited(at: int, edit: Callable[[World], None], after: Hook | None = None) -> Hook:

@@ -2,6 +2,8 @@
 
 Why: generation is embarrassingly parallel over (concept, set index), and each set is seeded from
 ``(seed, concept id, set index)`` alone, so the output is byte-identical whatever ``jobs`` is.
+Sets stream from ``parallel_map`` (in order) into the shard writer, so memory does not grow with
+the number of sets.
 """
 
 from __future__ import annotations

@@ -4,8 +4,9 @@ Why: the specificity matrix is built from stored runs, like any report, so every
 scored through the same ``score_probe_set`` as a user's model. This module only decides how each
 control's model is obtained:
 
-* untrained networks: the registered architecture with a seed and no checkpoint;
-* frame-only scorers: constructed directly (the density one fitted on training frames);
+* random networks: ``voe.controls.random_nets.random_network`` (no checkpoint);
+* statistics of the probe set (``stat:NAME``): not scored here but computed from the stored
+  bytes (``voe.controls.probe_runs``), and refused by this module;
 * lesioned and intact oracles: calibrated on the training world (``voe train`` does this);
 * counterfactual controls: the object-centric model trained on a counterfactual world;
 * user controls: ``load_model(ref, args, checkpoint)``.
@@ -83,14 +84,11 @@ def build_control(ctrl: Control, setup: ControlSetup, say: Callable[[str], None]
     """The model of a control, and the checkpoint it came from (if any)."""
     from voe.models.loading import load_model
 
+    if ctrl.model.startswith("stat:"):
+        raise VoeError(f"control '{ctrl.name}' is a statistic of the probe set ({ctrl.model}), not a "
+                       "model; compute it with voe.controls.probe_runs.probe_set_runs")
     if ctrl.family == "counterfactual":
         return _counterfactual(ctrl, setup, say)
-    if ctrl.model == "voe.controls.frame_only:PixelDensity":
-        from voe.controls.frame_only import PixelDensity
-        from voe.io.probeset import load_probe_set
-
-        frames = load_probe_set(setup.world).array("frames")  # (N, T, H, W)
-        return PixelDensity(**ctrl.args).fit(frames[: min(len(frames), 400)]), None
     if ctrl.calibrate:
         return _calibrated(ctrl, setup, say)
     ckpt = Path(ctrl.checkpoint) if ctrl.checkpoint else None

@@ -4,10 +4,14 @@ A control declares, per concept, one of:
 
 * ``pass``: it should learn the concept (verdict *learned*);
 * ``fail``: it should not (verdict *not learned*: at chance or reversed);
-* ``chance``: it must sit at chance (the 95% CI of its accuracy contains 0.5).
+* ``chance``: it must sit at chance (the 95% CI of its accuracy contains 0.5): neither learned
+  nor reversed;
+* ``not-learned``: it must not be judged *learned* (a physics-poor reference outside its
+  declared knowledge: at chance, reversed or inconclusive are all fine);
+* ``none``: no claim.
 
-Concepts it does not mention default to ``default`` (``pass`` for lesions and counterfactual
-models, which should keep every law they were not deprived of).
+Concepts it does not mention default to ``default`` (``pass`` for counterfactual models, which
+should keep every law they were not deprived of; lesions declare every concept explicitly).
 
 User file (``--controls my_controls.yaml``)::
 
@@ -18,7 +22,9 @@ User file (``--controls my_controls.yaml``)::
         checkpoint: runs/ckpt                  # optional, relative to this file, inside its folder
         should_fail: [solidity]
         should_pass: [permanence, gravity]
-        default: pass                          # for unlisted concepts (pass|fail|chance|none)
+        default: pass                          # for unlisted concepts (pass|fail|chance|not-learned|none)
+        family: user                           # or knowledge-free / physics-poor: then it can
+                                               # mark a probe confounded (voe.controls.confound)
 """
 
 from __future__ import annotations
@@ -32,7 +38,12 @@ import yaml
 from voe.errors import VoeError
 from voe.io.paths import inside
 
-EXPECTATIONS = ("pass", "fail", "chance", "none")
+EXPECTATIONS = ("pass", "fail", "chance", "not-learned", "none")
+#: Families whose controls know nothing: off chance on a probe set means the probe gives its
+#: answer away (``voe.controls.confound``).
+KNOWLEDGE_FREE = ("knowledge-free", "random-net")
+#: Families that know part of physics: learned beyond their declaration means the same.
+PHYSICS_POOR = ("physics-poor",)
 
 
 @dataclass(frozen=True)
@@ -41,8 +52,10 @@ class Control:
 
     Attributes:
         name: row label in the matrix.
-        family: ``untrained``, ``frame-only``, ``lesion``, ``counterfactual`` or ``user``.
-        model: registered model name or ``module:attr``.
+        family: ``knowledge-free``, ``random-net``, ``physics-poor``, ``lesion``,
+            ``counterfactual`` or ``user``.
+        model: registered model name, ``module:attr``, or ``stat:NAME`` for a statistic of the
+            probe set's stored bytes (``voe.controls.probe_runs``).
         args: model arguments.
         checkpoint: optional checkpoint path (or the name of a counterfactual training set the
             runner trains on, for ``counterfactual`` controls: ``train_on``).
@@ -52,6 +65,9 @@ class Control:
         why: one line on what the control knows and why it should pass/fail where it does.
         train_on: counterfactual world the control's model is trained on (counterfactual family).
         calibrate: fit the model's noise on the training world before scoring (``voe train``).
+        invariant_to: the balance (``F`` frames, ``M`` per-step change, ``S`` per-frame states)
+            on which the control ties by construction: its ``chance`` cells on sets that reach
+            it could not have failed, and are reported apart.
     """
 
     name: str
@@ -64,6 +80,7 @@ class Control:
     why: str = ""
     train_on: str | None = None
     calibrate: bool = False
+    invariant_to: str = ""
 
     def expectation(self, concept: str, condition: str | None = None) -> str:
         """Expectation for a concept (name or versioned id, ``Gravity-v1``), or for one of its
@@ -100,7 +117,8 @@ def load_user_controls(path: Path) -> list[Control]:
         if not isinstance(e, dict) or "name" not in e or "model" not in e:
             raise VoeError(f"{path}: every control needs 'name' and 'model' (got {e!r})")
         expect: dict[str, str] = {}
-        for key, val in (("should_pass", "pass"), ("should_fail", "fail"), ("should_be_chance", "chance")):
+        for key, val in (("should_pass", "pass"), ("should_fail", "fail"), ("should_be_chance", "chance"),
+                         ("should_not_learn", "not-learned")):
             for concept in _names(e, key, path):
                 try:
                     CONCEPTS.resolve(concept)  # did-you-mean on typos
@@ -110,13 +128,17 @@ def load_user_controls(path: Path) -> list[Control]:
         default = str(e.get("default", "none"))
         if default not in EXPECTATIONS:
             raise VoeError(f"{path}: default '{default}' of control '{e['name']}' is not one of {EXPECTATIONS}")
+        family = str(e.get("family", "user"))
+        if family not in ("user", *KNOWLEDGE_FREE, *PHYSICS_POOR):
+            raise VoeError(f"{path}: family '{family}' of control '{e['name']}' is not one of "
+                           f"{('user', *KNOWLEDGE_FREE, *PHYSICS_POOR)}")
         ckpt = e.get("checkpoint")
         if ckpt is not None:  # relative to the YAML file, and never outside its directory
             ckpt = str(inside(path.parent, ckpt, path))
         args = e.get("args") or {}
         if not isinstance(args, dict):
             raise VoeError(f"{path}: 'args' of control '{e['name']}' must be a mapping")
-        out.append(Control(name=str(e["name"]), family="user", model=str(e["model"]),
+        out.append(Control(name=str(e["name"]), family=family, model=str(e["model"]),
                            args=dict(args), checkpoint=ckpt,
                            expect=expect, default=default, why=str(e.get("why", "declared by the user"))))
     return out

@@ -9,11 +9,20 @@ import pandas as pd
 
 from voe.controls.builtin import builtin_controls
 from voe.controls.matrix import specificity_matrix
+from voe.controls.probe_runs import probe_set_runs, set_balance
 from voe.controls.run import ControlSetup, run_controls
 from voe.controls.spec import Control
 
 
-def ensure_probes(probes: Path | None, work: Path, per_concept: int, seed: int, size: int) -> Path:
+def default_per_concept(n_concepts: int, n_conditions: int = 2) -> int:
+    """Sets per concept so that a perfect score on each condition's share is decisive after Holm
+    over a control's ``n_concepts * n_conditions`` condition cells (8 concepts: 18)."""
+    from voe.scoring.verdict import min_sets_decisive
+
+    return n_conditions * min_sets_decisive(n_concepts * n_conditions)
+
+
+def ensure_probes(probes: Path | None, work: Path, per_concept: int | None, seed: int, size: int) -> Path:
     """The given probe set, or a core-suite one generated (once) under ``work``."""
     if probes is not None:
         return Path(probes)
@@ -24,6 +33,7 @@ def ensure_probes(probes: Path | None, work: Path, per_concept: int, seed: int, 
         from voe.sim.scene import SimConfig
 
         ids = resolve_concepts("core")
+        per_concept = per_concept or default_per_concept(len(ids))
         with progress(len(ids) * per_concept, "probe sets", "set") as tick:
             generate_probe_set(out, ids, per_concept, seed, SimConfig(size=size), jobs=2,
                                overwrite=True, progress=tick)
@@ -47,7 +57,7 @@ def ensure_world(world: Path | None, work: Path, n: int, seed: int, size: int) -
 
 def validate_suite(out: Path, work: Path, probes: Path | None = None, world: Path | None = None,
                    user_controls: Sequence[Control] = (), families: tuple[str, ...] | None = None,
-                   per_concept: int = 16, world_n: int = 600, seed: int = 0, size: int = 64,
+                   per_concept: int | None = None, world_n: int = 600, seed: int = 0, size: int = 64,
                    train_minutes: float = 3.0, checkpoints: dict[str, str] | None = None,
                    say: Callable[[str], None] = print, jobs: int = 1, show_paths: bool = False) -> pd.DataFrame:
     """Run built-in and user controls on a probe set and write the validity report to ``out``.
@@ -74,11 +84,16 @@ def validate_suite(out: Path, work: Path, probes: Path | None = None, world: Pat
     controls = [*controls, *user_controls]
     setup = ControlSetup(world=world, work=work, seed=seed, world_n=world_n, train_minutes=train_minutes,
                          checkpoints=tuple((checkpoints or {}).items()))
-    run_dirs = run_controls(controls, probes, setup, say, jobs=jobs)
-    runs = [load_run(d) for d in run_dirs]
+    stats = [c for c in controls if c.model.startswith("stat:")]
+    scored = [c for c in controls if not c.model.startswith("stat:")]
+    run_dirs = run_controls(scored, probes, setup, say, jobs=jobs)
+    by_name = {c.name: load_run(d) for c, d in zip(scored, run_dirs, strict=True)}
+    say(f"computing {len(stats)} statistics of the probe set")
+    by_name.update({c.name: r for c, r in zip(stats, probe_set_runs(ps, stats), strict=True)})
+    runs = [by_name[c.name] for c in controls]
     for r, c in zip(runs, controls, strict=True):
         r.label = c.name
-    matrix = specificity_matrix(controls, runs)
+    matrix = specificity_matrix(controls, runs, balance=set_balance(ps))
     from voe.io.paths import relative_ref
 
     ref = (lambda p: str(Path(p).resolve())) if show_paths else (lambda p: relative_ref(p, out))
@@ -87,5 +102,8 @@ def validate_suite(out: Path, work: Path, probes: Path | None = None, world: Pat
                   "world_manifest_sha256": ws.manifest_sha256, "seed": seed,
                   "controls": [c.name for c in controls],
                   "versions": package_versions()}
-    write_validity_report(matrix, out, provenance)
+    from voe.controls.confound import confounders, no_balanced_design
+
+    conf = confounders(matrix, no_balanced_design(ps.index))
+    write_validity_report(matrix, out, provenance, confounds=conf)
     return matrix

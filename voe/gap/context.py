@@ -81,3 +81,24 @@ def summarize(labels: np.ndarray, pose: np.ndarray) -> tuple[str, list[float]]:
     if counts.max() < 0.6 * len(labels):
         return f"region x {region[0]:.2f}..{region[1]:.2f} m, y {region[2]:.2f}..{region[3]:.2f} m", region
     return str(top), region
+
+
+def near_contact(scene: SceneSpec, ep: Episode, tol: float = 0.01) -> np.ndarray:
+    """(T,) bool: two bodies not joined to each other are within ``tol`` of touching (bounding
+    circles), at any sample of ``ep``.
+
+    Why: a window that starts inside a collision between bodies (two riders on an air track)
+    estimates both start velocities across the impact, and every model then sends the bodies
+    on through each other; such windows must not start there.
+    """
+    reach = np.array([float(np.max(np.linalg.norm(b.local_vertices(), axis=1))) for b in scene.bodies])  # (B,)
+    joined = {frozenset((j.a, j.b)) for j in scene.joints if j.b is not None}
+    out = np.zeros(len(ep.t), dtype=bool)
+    names = scene.names
+    for i in range(len(names)):
+        for j in range(i + 1, len(names)):
+            if frozenset((names[i], names[j])) in joined:
+                continue
+            d = np.linalg.norm(ep.pose[:, i, :2] - ep.pose[:, j, :2], axis=1)
+            out |= d < reach[i] + reach[j] + tol
+    return out

@@ -37,6 +37,11 @@ class FitResult:
     train_cost: float
     heldout_rmse: float
     window_sse: np.ndarray | None = None  # (W,) held-out squared error per window
+    fold_params: tuple[np.ndarray, ...] = ()  # per fold (see voe.gap.folds); () means (params,)
+
+    def __post_init__(self) -> None:
+        if not self.fold_params:
+            object.__setattr__(self, "fold_params", (self.params,))
 
 
 class Fitter:
@@ -129,7 +134,9 @@ class Fitter:
         each parameter's scale for several.
         """
         if effect.n_params == 0:
-            return FitResult(effect, np.zeros(0), self.cost(effect, np.zeros(0)), self.heldout(effect, np.zeros(0)))
+            sse = self.heldout_sse(effect, np.zeros(0))
+            return FitResult(effect, np.zeros(0), self.cost(effect, np.zeros(0)),
+                             float(np.sqrt(sse.sum() / max(self._n_test, 1))), sse)
         nfev = max_nfev or self.config.max_nfev
         lo, hi = effect.bounds(self.ctx)
         scale = effect.scale(self.ctx)

@@ -117,7 +117,7 @@ def prefit_starts(cand: Effect, starts: list[np.ndarray], lo: np.ndarray, hi: np
                   current_params: np.ndarray | None = None, keep: int = 2) -> list[np.ndarray]:
     """The ``keep`` best distinct regression fits of ``cand`` to the flight accelerations left
     unexplained by ``current``, each started from one of ``starts``; [] if not applicable."""
-    if samples is None or not cand.has_forces or len(samples) < MIN_SAMPLES:
+    if samples is None or not cand.has_forces or not cand.flight_regression or len(samples) < MIN_SAMPLES:
         return []
     dacc, dalpha = samples.dacc, samples.dalpha
     if current is not None and current_params is not None and current_params.size:

@@ -1,37 +1,43 @@
-"""Greedy search over candidate effects with a null-calibrated acceptance threshold.
+"""Greedy search over candidate effects, each round's acceptance threshold calibrated by the
+identical search on simulated clean data.
 
 Why: adding any flexible term lowers the training error, so an effect is accepted only if it
-lowers the *held-out* error by more than the threshold the same search reaches on simulated clean
-data. Candidates whose held-out fit is as good as the winner's are reported together as a group
-the data cannot tell apart, instead of picking one silently; within a group the effect whose
-physical context matches the located contexts is named first.
+lowers the *selection* error (episodes the fit never saw) by more than the same search reaches,
+in the same round, on data simulated from the nominal scene (``NullSearch``: same candidates,
+budget, refine step and selection windows; round 2 is calibrated on what a second effect gains
+on clean data after a first one was forced in). Candidates whose selection error is within 10 %
+of the winner's form a group. Within a group the winner is the member that predicts best on the
+selection windows where the members' predictions differ (an impact-only effect and an
+always-on drag differ in windows without an impact), not the one whose context words match; the
+context decides only when no window tells them apart, and the group is then reported as
+indistinguishable. Group members stay candidates in later rounds.
 
-The held-out gain is one minus the geometric mean over held-out windows of each window's RMSE
-ratio (after / before), not the ratio of pooled RMSEs. Why: a window with a collision whose
-outcome flips with any small change carries most of the pooled squared error. Pooled, such a
-window let a drag of 0.006 1/s "cut" clean data's held-out RMSE by 15 % (and 24 % on a clean
-replicate, which pushed the null threshold to 65 %), and it hid a wind that fitted seven
-windows out of eight to noise level. In the geometric mean every window counts once.
+The gain is one minus the geometric mean over selection windows of each window's RMSE ratio
+(after / before), not the ratio of pooled RMSEs. Why: a window with a collision whose outcome
+flips with any small change carries most of the pooled squared error. Pooled, such a window let
+a drag of 0.006 1/s "cut" clean data's error by 15 %; in the geometric mean every window counts
+once.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
-from voe.gap.effects.base import Effect, EffectSum
-from voe.gap.fit import FitResult, Fitter, extend
+from voe.gap.effects.base import Effect
+from voe.gap.fit import FitResult
+from voe.gap.folds import FoldedFitter, as_sum
 from voe.parallel import parallel_map
 
-GROUP_TOL = 0.10  # held-out error ratio within 10 % of the winner's counts as indistinguishable
+GROUP_TOL = 0.10  # selection error ratio within 10 % of the winner's counts as indistinguishable
 N_BOOT = 400
 LOG_CLIP = 10.0  # a window's log SSE ratio is clipped to +-10 (a blown-up rollout counts, but finitely)
 
 
 def window_gain(before_sse: np.ndarray, after_sse: np.ndarray | None, idx: np.ndarray | None = None) -> float | np.ndarray:
-    """1 - geometric mean over held-out windows of RMSE_after / RMSE_before.
+    """1 - geometric mean over windows of RMSE_after / RMSE_before.
 
     Args:
         before_sse, after_sse: (W,) per-window sums of squared residuals.
@@ -46,14 +52,10 @@ def window_gain(before_sse: np.ndarray, after_sse: np.ndarray | None, idx: np.nd
 
 
 def gain_lower_bound(before_sse: np.ndarray, after_sse: np.ndarray | None, seed: int = 0, q: float = 0.05) -> float:
-    """``q`` quantile of the held-out gain under a paired bootstrap over held-out windows.
+    """``q`` quantile of the gain under a paired bootstrap over selection windows.
 
-    Why: one chaotic held-out window (a collision whose outcome flips with any small change)
-    can carry a spurious gain: on clean data a drag of 0.006 1/s "cut" the held-out RMSE by
-    15 %, all of it from one window out of six while other windows got worse. Requiring the
-    gain to stay positive when windows are resampled (``GapConfig.gain_lower_q``) rejects that;
-    a real effect that acts only in collisions passes it as long as collisions fall in a few
-    held-out windows, which is why the bench records enough episodes.
+    Why: one chaotic window (a collision whose outcome flips with any small change) can carry a
+    spurious gain; requiring the gain to stay positive when windows are resampled rejects it.
     """
     if after_sse is None or before_sse.size == 0:
         return 0.0
@@ -64,13 +66,11 @@ def gain_lower_bound(before_sse: np.ndarray, after_sse: np.ndarray | None, seed:
 
 def null_threshold(before_sse: np.ndarray, results: dict[str, FitResult], alpha: float = 0.05,
                    seed: int = 0) -> tuple[float, np.ndarray]:
-    """(1 - alpha) quantile of the *best* candidate's held-out gain on clean data, bootstrapped.
+    """(1 - alpha) quantile of the *best* candidate's gain on clean data, bootstrapped.
 
-    Why: on data simulated from the nominal scene nothing is missing, so every gain there is a
-    false discovery. The search keeps the best of many candidates, so the statistic to calibrate
-    is the maximum over candidates, not any one gain. Its sampling spread comes from a
-    bootstrap over held-out windows (each candidate's per-window error on the clean replicate is
-    resampled jointly, keeping the candidates' correlation).
+    Why: on clean data every gain is a false discovery, and the search keeps the best of many
+    candidates, so the statistic to calibrate is the maximum over candidates. Each candidate's
+    per-window error is resampled jointly, keeping the candidates' correlation.
 
     Returns:
         The threshold and the (N_BOOT,) bootstrap distribution of the null's best gain.
@@ -85,21 +85,29 @@ def null_threshold(before_sse: np.ndarray, results: dict[str, FitResult], alpha:
     return float(np.quantile(best, 1.0 - alpha)), best
 
 
-@dataclass
+@dataclass(frozen=True)
 class Round:
-    """One greedy round: RMSE before, every candidate's result and the winner (if accepted)."""
+    """One greedy round: selection RMSE before, every candidate's result, gain and bootstrap lower
+    bound, the round's null threshold, and the winner (if accepted) with its group and how the
+    group was decided."""
 
     before: float
     results: dict[str, FitResult]
     gains: dict[str, float]
+    lower: dict[str, float]
+    threshold: float
     winner: str | None = None
-    group: list[str] = field(default_factory=list)
-    lower: dict[str, float] = field(default_factory=dict)
+    group: tuple[str, ...] = ()
+    basis: str = ""
+
+    def to_dict(self) -> dict:
+        return {"before": self.before, "threshold_gain": self.threshold, "winner": self.winner,
+                "group": list(self.group), "basis": self.basis,
+                "gains": {k: (round(g, 4) if np.isfinite(g) else None) for k, g in self.gains.items()}}
 
 
-def candidate_gains(fitter: Fitter, candidates: dict[str, Effect], current: Effect | None,
-                    params: np.ndarray, before_sse: np.ndarray,
-                    progress: Callable[[str], None] | None = None,
+def candidate_gains(fitter: FoldedFitter, candidates: dict[str, Effect], current: FitResult | None,
+                    before_sse: np.ndarray, progress: Callable[[str], None] | None = None,
                     n_jobs: int = 1) -> tuple[dict[str, FitResult], dict[str, float]]:
     """Fit ``current + c`` for every candidate; gain = ``window_gain`` against ``before_sse`` (W,).
 
@@ -108,7 +116,7 @@ def candidate_gains(fitter: Fitter, candidates: dict[str, Effect], current: Effe
     them, and each candidate's fit is deterministic, so the results do not depend on ``n_jobs``.
     """
     results: dict[str, FitResult] = {}
-    task = (fitter, candidates, current, params)
+    task = (fitter, candidates, current)
     n0, spent = fitter.shooter.n_rollouts, 0
     for key, res, n_roll in parallel_map(lambda k: _fit_one(k, task), list(candidates), n_jobs, start_method="fork"):
         results[key] = res
@@ -122,65 +130,102 @@ def candidate_gains(fitter: Fitter, candidates: dict[str, Effect], current: Effe
 
 def _fit_one(key: str, task: tuple) -> tuple[str, FitResult, int]:
     """Fit candidate ``key`` of ``task``; returns the rollouts it cost."""
-    fitter, candidates, current, params = task
+    fitter, candidates, current = task
     n0 = fitter.shooter.n_rollouts
-    effect, starts = extend(current, params, candidates[key], fitter.ctx)
-    return key, fitter.fit(effect, starts), fitter.shooter.n_rollouts - n0
+    res = fitter.fit_candidate(current, candidates[key])
+    return key, res, fitter.shooter.n_rollouts - n0
 
 
-def choose(gains: dict[str, float], results: dict[str, FitResult], candidates: dict[str, Effect],
-           contexts: set[str], threshold: float, lower: dict[str, float] | None = None) -> tuple[str | None, list[str]]:
-    """Winner and its indistinguishable group among candidates whose gain beats ``threshold``
-    and whose bootstrap lower bound ``lower`` is positive; (None, []) if there are none."""
-    if not gains:
-        return None, []
-    lower = lower or {}
+def context_match(effect_contexts: tuple[str, ...], located: set[str]) -> bool:
+    """Whether an effect's contexts name a located context (``region x 0.1..0.5 m`` is ``region``)."""
+    words = {c.split()[0] for c in located if c}
+    return any(c in words for c in effect_contexts)
+
+
+def tie_break(fitter: FoldedFitter, group: list[str], results: dict[str, FitResult], candidates: dict[str, Effect],
+              contexts: set[str], gains: dict[str, float], noise: float) -> tuple[str, tuple[str, ...], str]:
+    """Winner of a group whose selection errors are within ``GROUP_TOL``.
+
+    Members are compared on the selection windows where some pair's predictions differ by more
+    than twice the noise floor ``noise`` (m, RMS over the window): the member with the lowest
+    mean log error there wins, and members still within ``GROUP_TOL`` of it stay in the
+    reported group. Without such windows the data cannot tell them apart, and the member whose
+    contexts match the located contexts is named first.
+    """
+    res = {k: fitter.residuals(results[k].effect, results[k].fold_params) for k in group}
+    n_w = len(res[group[0]])
+    differ = np.zeros(n_w, dtype=bool)
+    for i, a in enumerate(group):
+        for b in group[i + 1:]:
+            d = np.array([np.sqrt(np.mean((ra - rb) ** 2)) for ra, rb in zip(res[a], res[b], strict=True)])
+            differ |= d > 2 * noise
+    if differ.sum() >= 2:
+        score = {k: float(np.mean([np.log(max(float(np.sum(r**2)), 1e-300)) for r, m in zip(res[k], differ, strict=True)
+                                   if m])) for k in group}
+        best = min(group, key=lambda k: score[k])
+        kept = tuple(sorted((k for k in group if score[k] - score[best] <= 2 * np.log1p(GROUP_TOL)),
+                            key=lambda k: score[k]))
+        return best, kept, f"chosen on the {int(differ.sum())} selection windows where the group's predictions differ"
+    ranked = sorted(group, key=lambda k: (0 if context_match(candidates[k].contexts, contexts) else 1, -gains[k]))
+    return ranked[0], tuple(ranked), "predictions differ in no selection window; named by the located context"
+
+
+def choose(gains: dict[str, float], lower: dict[str, float], threshold: float) -> list[str]:
+    """Candidates whose gain beats ``threshold``, whose bootstrap lower bound is positive and
+    whose error is within ``GROUP_TOL`` of the best such candidate's (best first); [] if none."""
     eligible = {k: g for k, g in gains.items() if g > threshold and lower.get(k, 1.0) > 0}
     if not eligible:
-        return None, []
+        return []
     best = max(eligible, key=lambda k: eligible[k])
     floor = 1.0 - eligible[best]  # the winner's geometric-mean error ratio
-    group = [k for k in eligible if 1.0 - eligible[k] <= floor * (1 + GROUP_TOL)]
-
-    def rank(k: str) -> tuple[int, float]:
-        ctx_match = any(c in contexts for c in candidates[k].contexts)
-        return (0 if ctx_match else 1, -eligible[k])
-
-    group.sort(key=rank)
-    return group[0], group
+    return sorted((k for k in eligible if 1.0 - eligible[k] <= floor * (1 + GROUP_TOL)), key=lambda k: -eligible[k])
 
 
-def greedy(fitter: Fitter, candidates: dict[str, Effect], threshold: float, max_effects: int,
-           contexts: set[str], progress: Callable[[str], None] | None = None,
-           lower_q: float | None = None, n_jobs: int = 1) -> tuple[Effect | None, np.ndarray, list[Round]]:
-    """Add effects one at a time while the held-out gain beats ``threshold`` (and, if
-    ``lower_q`` is set, while its bootstrap ``lower_q`` quantile stays positive).
+def accept(fitter: FoldedFitter, res: FitResult, gain: float, before_sse: np.ndarray) -> FitResult:
+    """The refine step (a longer fit from the winner's parameters), kept if it does not lose."""
+    ref = fitter.refine(res)
+    return ref if window_gain(before_sse, ref.window_sse) >= gain else res
 
-    Returns:
-        The accepted effect (an ``EffectSum`` or None), its parameters and the rounds.
-    """
-    current: Effect | None = None
-    params = np.zeros(0)
-    before = fitter.heldout(None, None)
-    before_sse = fitter.heldout_sse(None, None)
+
+@dataclass(frozen=True)
+class SearchResult:
+    """What the greedy search accepted (``model`` is None when nothing was) and every round."""
+
+    model: FitResult | None
+    rounds: tuple[Round, ...]
+    keys: tuple[str, ...]  # candidate key of each accepted part, in order
+
+    @property
+    def groups(self) -> list[list[str]]:
+        return [list(r.group) for r in self.rounds if r.winner]
+
+
+def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], threshold: Callable[[int], float], max_effects: int,
+           contexts: set[str], noise: float, progress: Callable[[str], None] | None = None,
+           lower_q: float | None = 0.05, n_jobs: int = 1) -> SearchResult:
+    """Add effects one at a time while the selection gain beats ``threshold(round)`` (and, if
+    ``lower_q`` is set, while its bootstrap ``lower_q`` quantile stays positive)."""
+    current: FitResult | None = None
+    before_sse = fitter.heldout_sse()
     rounds: list[Round] = []
+    keys: list[str] = []
     pool = dict(candidates)
-    for _ in range(max_effects):
-        results, gains = candidate_gains(fitter, pool, current, params, before_sse, progress, n_jobs)
-        lower = {k: gain_lower_bound(before_sse, r.window_sse, q=lower_q or 0.05) for k, r in results.items()}
-        winner, group = choose(gains, results, pool, contexts, threshold, lower if lower_q else None)
-        rounds.append(Round(before, results, gains, winner, group, lower))
-        if winner is None:
+    for r in range(max_effects):
+        thr = threshold(r)
+        results, gains = candidate_gains(fitter, pool, current, before_sse, progress, n_jobs)
+        lower = {k: gain_lower_bound(before_sse, x.window_sse, q=lower_q or 0.05) for k, x in results.items()}
+        group = choose(gains, lower if lower_q else {}, thr)
+        before = float(np.sqrt(before_sse.sum() / max(1, sum(f._n_test for f in fitter.folds))))
+        if not group:
+            rounds.append(Round(before, results, gains, lower, thr))
             break
-        res = fitter.fit(results[winner].effect, [results[winner].params], fitter.config.refine_nfev)
-        if window_gain(before_sse, res.window_sse) < gains[winner]:
-            res = results[winner]
-        results[winner] = res
-        current, params, before, before_sse = res.effect, res.params, res.heldout_rmse, res.window_sse
-        for k in group:  # members of the winner's group explain the same thing
-            pool.pop(k, None)
+        winner, kept, basis = (group[0], (group[0],), "alone") if len(group) == 1 else \
+            tie_break(fitter, group, results, pool, contexts, gains, noise)
+        rounds.append(Round(before, results, gains, lower, thr, winner, kept, basis))
+        current = accept(fitter, results[winner], gains[winner], before_sse)
+        before_sse = current.window_sse
+        keys.append(winner)
+        pool.pop(winner)  # the group's other members stay candidates
         if not pool:
             break
-    if current is not None and not isinstance(current, EffectSum):
-        current = EffectSum(current.parts)
-    return current, params, rounds
+    return SearchResult(as_sum(current) if current is not None else None, tuple(rounds), tuple(keys))

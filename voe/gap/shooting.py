@@ -53,14 +53,57 @@ def local_state(ep: Episode, k: int, half: int | None = None) -> tuple[np.ndarra
 
 
 def noise_floor(episodes: list[Episode]) -> np.ndarray:
-    """(B, 3) robust per-body, per-variable noise sigma from fourth differences.
+    """(B, 3) robust per-body, per-variable noise sigma (see ``noise_model``)."""
+    return noise_model(episodes)[0]
 
-    For white noise, the fourth difference has variance 70 sigma^2; smooth motion contributes
-    almost nothing at 100 Hz and impacts are outliers the median ignores.
+
+_PHI = np.linspace(0.0, 0.95, 96)
+_STRIDES = (1, 2, 3, 4)
+
+
+def _d4_var(phi: np.ndarray) -> np.ndarray:
+    """Variance of the fourth difference of unit-variance AR(1) noise with coefficient ``phi``."""
+    return 70 - 112 * phi + 56 * phi**2 - 16 * phi**3 + 2 * phi**4
+
+
+def noise_model(episodes: list[Episode]) -> tuple[np.ndarray, np.ndarray]:
+    """(B, 3) noise sigma and (B, 3) AR(1) coefficient phi, from fourth differences at strides 1-4.
+
+    White noise of sigma gives a fourth difference of variance 70 sigma^2 at every stride.
+    AR(1) (coloured) noise of coefficient phi is, at stride s, AR(1) of coefficient phi^s, so its
+    d4 variance grows with the stride in a known way; smooth motion adds a part growing like
+    s^8. Per body and variable, (sigma^2, signal) are fitted by least squares for every phi on a
+    grid and the best phi kept. The coloured model is used only when it is clear (phi > 0.3 and
+    the signal part small at stride 1); otherwise the white estimate (stride-1 variance / 70),
+    which is what a signal-dominated recording such as an encoder gets. Robust (MAD) variances
+    ignore impacts. Why: the null replicate must carry the data's own noise, white or not; a
+    white null under coloured noise mistakes slow noise wander for missing physics.
     """
-    d4 = np.concatenate([np.diff(e.pose, n=4, axis=0) for e in episodes], axis=0)  # (N, B, 3)
-    mad = np.median(np.abs(d4 - np.median(d4, axis=0)), axis=0)
-    return np.maximum(1.4826 * mad / np.sqrt(70.0), 1e-7)
+    var = []
+    for s in _STRIDES:
+        d4 = np.concatenate([np.diff(e.pose[::s], n=4, axis=0) for e in episodes if len(e.t) > 4 * s + 1], axis=0)
+        mad = 1.4826 * np.median(np.abs(d4 - np.median(d4, axis=0)), axis=0)  # (B, 3)
+        var.append(mad**2)
+    v = np.stack(var)  # (S, B, 3)
+    white = np.sqrt(v[0] / 70.0)
+    sig2 = np.asarray(_STRIDES, float) ** 8
+    sigma, phi = white.copy(), np.zeros_like(white)
+    for b, k in np.ndindex(white.shape):
+        y = v[:, b, k]
+        if y[0] <= 0:
+            continue
+        best = (np.inf, 0.0, 0.0, 0.0)
+        for ph in _PHI:
+            a = np.stack([_d4_var(ph ** np.asarray(_STRIDES, float)), sig2], axis=1)  # (S, 2)
+            coef, *_ = np.linalg.lstsq(a / y[:, None], np.ones_like(y), rcond=None)  # relative errors
+            coef = np.maximum(coef, 0.0)
+            err = float(np.sum((a @ coef / y - 1.0) ** 2))
+            if err < best[0]:
+                best = (err, ph, coef[0], coef[1])
+        _, ph, s2, sig = best
+        if ph > 0.3 and sig < 0.2 * s2 * _d4_var(ph) and s2 > 0:
+            sigma[b, k], phi[b, k] = np.sqrt(s2), ph
+    return np.maximum(sigma, 1e-7), phi
 
 
 def make_windows(episodes: list[Episode], which: list[int], length: float, stride: float | None = None,

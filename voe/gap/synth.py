@@ -15,10 +15,22 @@ from voe.gap.shooting import local_state
 from voe.sim.scenefile import SceneSpec, SimWorld
 
 
+def ar1_noise(shape: tuple[int, ...], sigma: np.ndarray, phi: np.ndarray | float, rng: np.random.Generator) -> np.ndarray:
+    """(T, B, 3) stationary AR(1) noise of marginal ``sigma`` (B, 3) and coefficient ``phi``."""
+    phi = np.broadcast_to(np.asarray(phi, float), sigma.shape)
+    e = rng.normal(size=shape)
+    out = np.empty(shape)
+    out[0] = e[0]
+    inno = np.sqrt(1 - phi**2)
+    for k in range(1, shape[0]):
+        out[k] = phi * out[k - 1] + inno * e[k]
+    return out * sigma[None]
+
+
 def simulate_episode(scene: SceneSpec, ep_id: int, t: np.ndarray, pose0: np.ndarray, vel0: np.ndarray,
                      effect: Effect | None, params: np.ndarray | None, sigma: np.ndarray,
-                     rng: np.random.Generator, substep: float = 1e-3) -> Episode:
-    """One episode (T samples at ``t``) with Gaussian noise ``sigma`` (B, 3) added to the poses."""
+                     rng: np.random.Generator, substep: float = 1e-3, phi: np.ndarray | float = 0.0) -> Episode:
+    """One episode (T samples at ``t``) with noise ``sigma`` (B, 3), AR(1) with ``phi``, added to the poses."""
     mats = effect.materials(params, scene) if effect is not None else None
     world = SimWorld(scene, pose0, vel0, mats)
     force_fn = None
@@ -26,14 +38,17 @@ def simulate_episode(scene: SceneSpec, ep_id: int, t: np.ndarray, pose0: np.ndar
         def force_fn(state):
             return effect.forces(state, params, scene)
     pose = world.run(t, substep, force_fn)  # (T, B, 3)
-    return Episode(ep_id, t.copy(), pose + rng.normal(size=pose.shape) * sigma[None])
+    if np.all(np.asarray(phi) == 0):
+        return Episode(ep_id, t.copy(), pose + rng.normal(size=pose.shape) * sigma[None])
+    return Episode(ep_id, t.copy(), pose + ar1_noise(pose.shape, sigma, phi, rng))
 
 
 def null_like(scene: SceneSpec, episodes: list[Episode], sigma: np.ndarray, rng: np.random.Generator,
-              substep: float) -> list[Episode]:
-    """Clean copies of ``episodes``: nominal simulation from each one's estimated initial state."""
+              substep: float, phi: np.ndarray | float = 0.0) -> list[Episode]:
+    """Clean copies of ``episodes``: nominal simulation from each one's estimated initial state,
+    with the data's noise model (``voe.gap.shooting.noise_model``)."""
     out = []
     for ep in episodes:
         pose0, vel0, _ = local_state(ep, 0)
-        out.append(simulate_episode(scene, ep.id, ep.t, pose0, vel0, None, None, sigma, rng, substep))
+        out.append(simulate_episode(scene, ep.id, ep.t, pose0, vel0, None, None, sigma, rng, substep, phi))
     return out

@@ -32,11 +32,15 @@ class Verification:
     looks_like_noise: bool
 
 
-def verify(shooter: Shooter, windows: list[Window], effect: Effect | None, params: np.ndarray,
+def verify(shooter: Shooter, pairs: list[tuple[Window, np.ndarray | None]], effect: Effect | None,
            sigma: np.ndarray, z_thr: float) -> Verification:
-    """Re-simulate ``windows`` with and without ``effect``."""
+    """Re-simulate each window with and without ``effect`` (at that window's parameters)."""
+    windows = [w for w, _ in pairs]
+    if not windows:
+        nan = float("nan")
+        return Verification(nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, False)
     before = [shooter.residual(w, None, None) for w in windows]
-    after = [shooter.residual(w, effect, params) for w in windows] if effect is not None else before
+    after = [shooter.residual(w, effect, p) for w, p in pairs] if effect is not None else before
     sp = [shooter.sigma_pred(w, sigma) for w in windows]
     zb = np.array([np.sqrt(np.mean((r / s)[1:] ** 2, axis=0)).max() for r, s in zip(before, sp, strict=True)])
     za = np.array([np.sqrt(np.mean((r / s)[1:] ** 2, axis=0)).max() for r, s in zip(after, sp, strict=True)])
@@ -47,32 +51,58 @@ def verify(shooter: Shooter, windows: list[Window], effect: Effect | None, param
                         bool(flagged_after <= 0.1))
 
 
-def explain(effects: list[dict], groups: list[list[str]], located: list[dict], ver: Verification,
-            threshold: float, sigma: np.ndarray, holdout: list[int]) -> str:
-    """A short paragraph with the numbers that matter."""
+def _where(located: list[dict], z_strong: float, limit: int = 4) -> str:
+    """Where and when the strongest located stretches are, in words."""
+    strong = sorted((x for x in located if not x["z"] <= z_strong), key=lambda x: -x["z"] if np.isfinite(x["z"]) else -1e300)
+    bits = []
+    for x in strong[:limit]:
+        r = x["region"]
+        bits.append(f"{x['body']} in episode {x['episode']} at t = {x['t_start']:.2f}-{x['t_end']:.2f} s, "
+                    f"x {r[0]:.2f}..{r[1]:.2f} m ({x['context']}, z = {x['z']:.1f})")
+    more = f"; and {len(strong) - limit} more" if len(strong) > limit else ""
+    return "; ".join(bits) + more
+
+
+def _value(v: float, lo: float, hi: float) -> str:
+    return f"{v:.3g} (95 % interval {lo:.3g} to {hi:.3g})"
+
+
+def explain(verdict: str, effects: list[dict], groups: list[list[str]], located: list[dict], ver: Verification,
+            threshold: float, sigma: np.ndarray, test_note: str, z_strong: float, dropped: tuple[dict, ...] = (),
+            best: tuple[str, float] | None = None) -> str:
+    """A short paragraph with the numbers that matter; it never claims agreement next to a mismatch."""
     noise_mm = 1e3 * float(np.median(sigma[:, :2]))
-    if not effects:
-        text = (f"The recordings agree with the nominal simulation: no candidate effect cut the held-out error by "
-                f"more than the null threshold of {100 * threshold:.1f} % (noise floor about {noise_mm:.3g} mm).")
-        if located:
-            text += (f" {len(located)} stretch(es) still depart from the model (largest z = "
-                     f"{max(x['z'] for x in located):.1f}), but none of the library's effects explains them.")
-        return text
+    tail = "".join(f" {d['effect']} was dropped: {d['reason']}." for d in dropped)
+    if verdict == "consistent":
+        text = (f"The recordings agree with the nominal simulation: no stretch departs by more than clean "
+                f"simulated data does (largest window z there {z_strong:.1f}), and no candidate effect cut the "
+                f"selection error by more than the null threshold of {100 * threshold:.1f} % (noise floor about "
+                f"{noise_mm:.3g} mm).")
+        return text + tail
+    if verdict == "unexplained":
+        n = sum(1 for x in located if not x["z"] <= z_strong)
+        text = (f"The recordings depart from the nominal simulation in {n} located stretch(es) beyond anything clean "
+                f"simulated data shows (z above {z_strong:.1f}): {_where(located, z_strong)}. No effect in the library "
+                f"explains it")
+        if best is not None and np.isfinite(best[1]):
+            text += f" (the best candidate, {best[0]}, cut the selection error by {100 * best[1]:.1f} %, "
+            text += f"threshold {100 * threshold:.1f} %)"
+        return text + "." + tail
     parts = []
     for e in effects:
-        params = ", ".join(f"{k} = {v:.3g}" for k, v in e["params"].items())
-        parts.append(f"{e['summary']}: {e['name']} ({params}) was missing")
+        ps = ", ".join(f"{k} = {_value(v, *e['interval95'][k])}" for k, v in e["params"].items())
+        parts.append(f"{e['summary']}: {e['name']} ({ps}) was missing")
     drop = 100 * (1 - ver.rmse_after / ver.rmse_before) if ver.rmse_before > 0 else 0.0
     text = "; ".join(parts) + (
-        f". Adding {'them' if len(effects) > 1 else 'it'} cuts held-out error (RMSE of x, y and angle x sqrt(I/m)) on episodes {holdout} from "
-        f"{ver.rmse_before:.3g} m to {ver.rmse_after:.3g} m ({drop:.0f} % less; position only "
+        f". Adding {'them' if len(effects) > 1 else 'it'} cuts the error (RMSE of x, y and angle x sqrt(I/m)) on "
+        f"{test_note} from {ver.rmse_before:.3g} m to {ver.rmse_after:.3g} m ({drop:.0f} % less; position only "
         f"{ver.position_rmse_before:.3g} m to {ver.position_rmse_after:.3g} m).")
     if located:
-        ctxs = sorted({x["context"] for x in located})
+        ctxs = sorted({x["context"].split()[0] for x in located})
         text += f" The mismatch was located in {len(located)} stretch(es), context: {', '.join(ctxs)}."
     for g in groups:
         if len(g) > 1:
-            text += f" The data cannot tell apart {' and '.join(g)} (held-out fits within 10 %); {g[0]} is named first."
+            text += f" The data cannot tell apart {' and '.join(g)} (selection errors within 10 %); {g[0]} is named first."
     text += (" The remaining residuals look like noise." if ver.looks_like_noise else
-             f" {100 * ver.flagged_after:.0f} % of held-out windows still exceed the noise threshold.")
-    return text
+             f" {100 * ver.flagged_after:.0f} % of test windows still exceed the noise threshold.")
+    return text + tail

@@ -19,7 +19,6 @@ Sets written before sharding (schema 1: the four arrays at the top level) are st
 
 from __future__ import annotations
 
-import io
 import json
 from collections.abc import Iterable, Iterator, Sequence
 from dataclasses import dataclass
@@ -56,12 +55,6 @@ class ClipRecord:
     exists: np.ndarray  # (T, K) bool
 
 
-def _parquet_bytes(df: pd.DataFrame) -> bytes:
-    buf = io.BytesIO()
-    df.to_parquet(buf, index=False, engine="pyarrow", compression="zstd")
-    return buf.getvalue()
-
-
 def write_probe_set(out: Path, records: Iterable[ClipRecord], meta: dict[str, Any],
                     overwrite: bool = False) -> dict[str, Any]:
     """Write clips and a manifest to ``out`` atomically; returns the manifest.
@@ -74,24 +67,35 @@ def write_probe_set(out: Path, records: Iterable[ClipRecord], meta: dict[str, An
         records: clips in their final order (any iterable, e.g. ``parallel_map``'s iterator).
         meta: manifest fields (seeds, concept ids, dt, size, feature names, versions, ...).
     """
-    rows = []
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    tables: list[pa.Table] = []  # index rows, 256 at a time in columnar form (compact)
+    rows: list[dict[str, Any]] = []
     with atomic_dir(Path(out), overwrite=overwrite) as tmp:
         writer = ShardWriter(tmp, DTYPES)
         for i, rec in enumerate(records):
             rows.append({**rec.row, "row": i})
             writer.add({name: getattr(rec, name) for name in ARRAYS})
+            if len(rows) == 256:
+                tables.append(pa.Table.from_pylist(rows))
+                rows = []
         writer.flush()
-        if not rows:
+        if rows:
+            tables.append(pa.Table.from_pylist(rows))
+        if not tables:
             raise ProbeSetError(f"refusing to write an empty set to {out}")
-        index = pd.DataFrame(rows)
-        del rows
-        missing = [c for c in INDEX_COLUMNS if c not in index.columns]
+        index = pa.concat_tables(tables, promote_options="permissive")  # null -> str, int -> float
+        del tables
+        missing = [c for c in INDEX_COLUMNS if c not in index.column_names]
         if missing:
             raise ProbeSetError(f"internal: index rows lack columns {missing}")
-        blob = _parquet_bytes(index)
+        buf = pa.BufferOutputStream()
+        pq.write_table(index, buf, compression="zstd")
+        blob = buf.getvalue().to_pybytes()
         (tmp / "index.parquet").write_bytes(blob)
         files = {"index.parquet": sha256_bytes(blob), **writer.files}
-        manifest = {"schema_version": SCHEMA_VERSION, **meta, "n_clips": len(index),
+        manifest = {"schema_version": SCHEMA_VERSION, **meta, "n_clips": index.num_rows,
                     "shard_clips": writer.capacity, "shards": writer.shards,
                     "files": dict(sorted(files.items()))}
         (tmp / "manifest.json").write_text(json.dumps(manifest, indent=1, sort_keys=True) + "\n")

@@ -4,6 +4,9 @@
   ``torch.distributions.Distribution`` over the observation sequence.
 * ``PointPredictorAdapter`` (from ``voe.models.point``) wraps a deterministic one-frame predictor
   and calibrates Gaussian noise, presence and shape probabilities on held-out possible clips.
+* ``WindowPredictorAdapter`` (from ``voe.models.window``) turns an encoder and a predictor (a
+  V-JEPA-style video model) into a causal per-frame representation error
+  (``surprise_kind = "error"``), averaged or maximised over sliding windows.
 
 Why: most simulators people want to test either already output a distribution (world models)
 or only a point prediction (physics engines, regressors); both become true likelihoods here.
@@ -18,8 +21,10 @@ import numpy as np
 from voe.errors import ModelContractError
 from voe.io.batch import Batch
 from voe.models.point import PointPredictorAdapter
+from voe.models.window import WindowPredictorAdapter
 
-__all__ = ["PointPredictorAdapter", "TorchDistributionAdapter", "observation_tensor"]
+__all__ = ["PointPredictorAdapter", "TorchDistributionAdapter", "WindowPredictorAdapter",
+           "observation_tensor"]
 
 
 def observation_tensor(batch: Batch, observation: str):

@@ -26,6 +26,7 @@ class TorchModel:
     observation: ClassVar[str]
     warmup: ClassVar[int] = 1
     model_id: ClassVar[str]
+    device: str = "cpu"
 
     def __init__(self, **kwargs: Any) -> None:
         known = {f.name for f in fields(self.Config)}
@@ -56,9 +57,37 @@ class TorchModel:
         self.check_layout(batch)
         self.net.eval()
         with torch.no_grad():
-            out = self.nll(self.prepare(batch)).double().numpy().copy()  # (B, T)
+            data = {k: v.to(self.device) if isinstance(v, torch.Tensor) else v
+                    for k, v in self.prepare(batch).items()}
+            out = self.nll(data).double().cpu().numpy().copy()  # (B, T)
         out[:, : self.warmup] = np.nan
         return out
+
+    def to(self, device: str) -> TorchModel:
+        """Run on ``device`` (``voe score --device``): the weights move, batches follow."""
+        self.device = str(device)
+        self.net.to(self.device)
+        return self
+
+    def randomize_outputs(self, seed: int) -> None:
+        """Give the zero-initialised output layers (and output head) random, non-zero values.
+
+        Why: a learned model starts with zero output layers so that, untrained, it is uniform
+        (a constant: it ties every matched set by construction). A *random network* validity
+        control must be a random, non-constant function of its inputs instead; this draws every
+        all-zero linear or convolutional layer from the default ``U(-1/sqrt(fan_in), ...)`` and
+        lets modules with a ``randomize(generator)`` method (the state head) do their own.
+        """
+        gen = torch.Generator().manual_seed(int(seed))
+        with torch.no_grad():
+            for m in self.net.modules():
+                if isinstance(m, torch.nn.Linear | torch.nn.Conv2d) and not m.weight.any():
+                    bound = 1.0 / float(np.sqrt(m.weight[0].numel()))
+                    m.weight.uniform_(-bound, bound, generator=gen)
+                    if m.bias is not None:
+                        m.bias.uniform_(-bound, bound, generator=gen)
+                if m is not self.net and hasattr(m, "randomize"):
+                    m.randomize(gen)
 
     # -- checkpoints -------------------------------------------------------------------------
     def check_layout(self, batch: Batch) -> None:

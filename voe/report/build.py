@@ -24,10 +24,10 @@ from voe.report.filmstrip import save_figure
 from voe.scoring.metrics import TIE_RTOL
 from voe.scoring.runs import Run, load_runs
 from voe.scoring.table import concept_table, condition_table
-from voe.scoring.verdict import RULE
+from voe.scoring.verdict import CONFOUNDED_RULE, RULE
 
 CSV_COLUMNS = ("model", "concept", "n_sets", "accuracy", "ci_low", "ci_high", "p_value", "verdict",
-               "p_holm", "note", "relative_surprise", "pair_acc_max", "auroc")
+               "p_holm", "note", "relative_surprise", "pair_acc_max", "auroc", "raw_verdict", "confounded_by")
 
 
 def _slug(text: str) -> str:
@@ -90,10 +90,15 @@ def build_report(run_dirs: Sequence[str | Path], out: Path, title: str | None = 
     Returns:
         The summary table (one row per model x concept).
     """
+    from voe.controls.check import check_probe_set
+    from voe.controls.confound import apply_confounding
     from voe.report import figures as F
+    from voe.report.validity import control_blocks
 
     runs = load_runs(run_dirs)
-    summary = concept_table(runs, n_boot=n_boot, seed=seed)
+    check = check_probe_set(runs[0].probes_path, runs[0].manifest_sha256,
+                            Path(validity) if validity is not None else None, n_boot=n_boot)
+    summary = apply_confounding(concept_table(runs, n_boot=n_boot, seed=seed), check.confounds)
     conditions = condition_table(runs, n_boot=n_boot, seed=seed)
     concepts = sorted(summary["concept"].unique())
     title = title or f"voe report: {len(runs)} model(s) x {len(concepts)} concept(s)"
@@ -127,28 +132,26 @@ def build_report(run_dirs: Sequence[str | Path], out: Path, title: str | None = 
                 save_figure(F.example_filmstrip(by_label[model], frames[sid], sid), tmp / name)
                 films.append(R.Figure(name, f"filmstrip {sid}", f"{concept}: set {sid}, traces of {model}."))
         blocks = _blocks(title, runs, summary, conditions, concepts, looking, films, film_note, show_paths)
+        blocks[-2:-2] = control_blocks(check)
         if validity is not None:
-            blocks[-2:-2] = _validity_blocks(Path(validity), tmp)
+            blocks[-2:-2] = _validity_blocks(Path(validity), tmp, check.confounds)
+        check.matrix.to_csv(tmp / "controls.csv", index=False, float_format="%.6g")
         (tmp / "report.md").write_text(R.to_markdown(blocks))
         (tmp / "report.html").write_text(R.to_html(blocks, title, tmp))
         _publishable(tmp)
     return summary
 
 
-def _validity_blocks(validity: Path, tmp: Path) -> list[R.Block]:
+def _validity_blocks(validity: Path, tmp: Path, confounds: pd.DataFrame) -> list[R.Block]:
     """The "Is the suite valid?" section from a ``voe validate-suite`` output directory."""
     import shutil
 
-    from voe.errors import RunError
+    from voe.controls.check import read_matrix
     from voe.report.validity import validity_blocks
 
-    path = validity / "matrix.csv"
-    if not path.exists():
-        raise RunError(f"{path} is missing; run `voe validate-suite --out {validity}` first")
-    matrix = pd.read_csv(path)
-    matrix["as_declared"] = matrix["as_declared"].map({True: True, False: False, "True": True, "False": False})
+    matrix, _ = read_matrix(validity)
     shutil.copy(validity / "figures" / "specificity.png", tmp / "figures" / "specificity.png")
-    return validity_blocks(matrix, "figures/specificity.png")
+    return validity_blocks(matrix, "figures/specificity.png", confounds=confounds)
 
 
 def _blocks(title, runs, summary, conditions, concepts, looking, films, film_note,
@@ -157,7 +160,7 @@ def _blocks(title, runs, summary, conditions, concepts, looking, films, film_not
     show = summary.copy()
     show["95% CI"] = [f"[{lo:.2f}, {hi:.2f}]" for lo, hi in zip(show["ci_low"], show["ci_high"], strict=True)]
     show = show[["model", "concept", "n_sets", "accuracy", "95% CI", "p_value", "p_holm", "verdict", "note",
-                 "pair_acc_max", "relative_surprise", "auroc"]]
+                 "confounded_by", "pair_acc_max", "relative_surprise", "auroc"]]
     pooled = conditions[conditions["concept"] == "all"].copy()
     pooled["95% CI"] = [f"[{lo:.2f}, {hi:.2f}]" for lo, hi in zip(pooled["ci_low"], pooled["ci_high"], strict=True)]
     b: list[R.Block] = [
@@ -207,7 +210,7 @@ def _blocks(title, runs, summary, conditions, concepts, looking, films, film_not
             "clips that are simply harder to predict.",
             "**note**: *chance* when the CI contains 0.5, *reversed* when it lies entirely below 0.5.",
         )),
-        R.Para("Verdict rule: " + RULE),
+        R.Para("Verdict rule: " + RULE + " " + CONFOUNDED_RULE),
         R.Heading("Looking time: surprise around the onset"),
         R.Para("One figure per model, one column per concept; the x axis is the frame relative to the "
                "violation onset (dashed line). Top: mean surprise per frame of possible (blue) and "

@@ -19,7 +19,7 @@ import pandas as pd
 from voe.report.concepts import concept_name
 from voe.scoring.runs import Run
 
-_MARK = {"learned": "\u2713", "not learned": "\u2717", "inconclusive": "?"}
+_MARK = {"learned": "\u2713", "not learned": "\u2717", "inconclusive": "?", "confounded": "c"}
 
 
 def _plt():

@@ -118,7 +118,9 @@ def score_probe_set(model: Any, probes: ProbeSet | str | Path, out: Path, *, mod
         cache_root: keep computed batches under this directory and resume from them; the entry
             is removed once the run is written. ``None``: no cache (unless sharded).
         device, bf16: see ``voe.scoring.device``.
-        ranks: this process's place in a sharded launch (``voe.scoring.distributed.from_env``).
+        ranks: this process's place in a sharded launch (``voe.scoring.distributed.from_env``, or
+            ``Ranks(i, n, "shard")`` for one task of a job array: it only fills the cache, and a
+            final unsharded run with the same cache merges every task's batches).
         progress: called with the number of clips done after each batch.
 
     Returns:
@@ -138,7 +140,7 @@ def score_probe_set(model: Any, probes: ProbeSet | str | Path, out: Path, *, mod
     fields = {"model": ref, "args": dict(model_args or {}), "name": name, "checkpoint_sha256": ck_sha,
               "manifest_sha256": ps.manifest_sha256, "batch_size": batch_size, "seed": seed,
               "surprise_kind": kind, "device": device, "bf16": bf16}
-    if cache_root is None and ranks.world > 1:
+    if cache_root is None and ranks.world > 1:  # also for shards: the cache is the hand-over
         raise VoeError("sharded scoring needs a cache directory shared by every rank (--cache DIR)")
     cache = ScoreCache(cache_root, fields) if cache_root is not None else None
     if check:
@@ -148,8 +150,8 @@ def score_probe_set(model: Any, probes: ProbeSet | str | Path, out: Path, *, mod
                                    cache=cache, device=device, bf16=bf16, progress=progress)
     computed = ranks.total(computed)  # a collective: every rank takes part
     wall = time.perf_counter() - t0
-    if ranks.rank != 0:
-        return None
+    if ranks.rank != 0 or ranks.launcher == "shard":
+        return None  # a shard (SLURM array task) leaves its batches in the cache for a final run
     by_id = mine if ranks.world == 1 else _merge(sched, blinder, cache)
     index, nll = assemble(ps.index, by_id)
     meta = {

@@ -19,16 +19,19 @@ from voe.scoring.verdict import verdict
 SUMMARY_COLUMNS = ("model", "concept", "n_sets", "accuracy", "ci_low", "ci_high", "p_value", "p_holm",
                    "verdict", "note", "relative_surprise", "pair_acc_max", "auroc")
 SET_KEYS = ("concept", "set_id", "set_kind", "visible_violation", "n_distractors")
+#: Set-level columns carried over when a probe set has them (``voe.scoring.verdict.set_conditions``).
+OPTIONAL_SET_KEYS = ("condition", "carries_verdict", "confounded")
 
 
 def set_table(run: Run) -> pd.DataFrame:
     """One row per matched set of ``run``: summed surprises and per-set metrics."""
     clips = run.clips
+    keys_ = [*SET_KEYS, *(k for k in OPTIONAL_SET_KEYS if k in clips.columns)]
     rows = []
     atol = tie_atol(run.surprise_kind)
-    for keys, grp in clips.groupby(list(SET_KEYS), sort=True):
+    for keys, grp in clips.groupby(keys_, sort=True, dropna=False):
         sc = score_set(run.nll[grp.index.to_numpy()], (grp["role"] == "impossible").to_numpy(), atol)
-        rows.append({"model": run.label, **dict(zip(SET_KEYS, keys, strict=True)),
+        rows.append({"model": run.label, **dict(zip(keys_, keys, strict=True)),
                      "s_imp": sc.s_imp, "s_pos": sc.s_pos, "accuracy": sc.accuracy,
                      "accuracy_max": sc.accuracy_max, "n_frames": sc.n_frames,
                      # a ratio of sums means something only for non-negative calibrated nats

@@ -8,11 +8,18 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+import pandas as pd
+
 ALPHA = 0.05
 #: Matched-set accuracy a model must reach to count as having learned a concept.
 LEARNED_ACCURACY = 0.75
 
 LEARNED, NOT_LEARNED, INCONCLUSIVE = "learned", "not learned", "inconclusive"
+#: The verdict where the probe cannot tell: a control that knows nothing (or too little) of the
+#: concept separates its clips too (``voe.controls.confound``), or the concept declares no
+#: balanced design. It replaces whatever the rule above would say.
+CONFOUNDED = "confounded"
 
 RULE = (
     f"**learned** if the Holm-adjusted permutation p-value is below {ALPHA}, the lower end of the "
@@ -34,3 +41,42 @@ def verdict(accuracy: float, ci_low: float, ci_high: float, p_holm: float) -> tu
     if ci_high < LEARNED_ACCURACY:
         return NOT_LEARNED, note
     return INCONCLUSIVE, note
+
+
+CONFOUNDED_RULE = (
+    "**confounded** replaces the verdict on a concept when, on the same probe set and on the sets "
+    "that carry the verdict (the concept's pooled sets or any one of its verdict-carrying "
+    "conditions), a knowledge-free control (a statistic of the stored bytes, the stress-test "
+    "classifier or a random network) is off chance in either direction (its 95% CI excludes 0.5 and "
+    f"the two-sided sign-flip p-value is below {ALPHA}), or a "
+    "physics-poor reference is *learned* where its declared knowledge does not reach; and always "
+    "when the concept declares no balanced design. The probe then cannot tell the concept from "
+    "the confound, whatever a model scores."
+)
+
+
+def min_sets_decisive(m: int, alpha: float = ALPHA) -> int:
+    """Fewest matched sets per cell for which a perfect score is *learned* after Holm over ``m``.
+
+    A perfect score on ``n`` sets has the exact permutation p-value ``2**-n``; with ``m`` cells
+    tested all perfect, Holm multiplies it by ``m``, so ``n`` must satisfy ``m * 2**-n < alpha``.
+    """
+    return max(1, math.floor(math.log2(max(m, 1) / alpha)) + 1)
+
+
+def set_conditions(sets: pd.DataFrame) -> tuple[np.ndarray, np.ndarray]:
+    """Per matched set: its condition name and whether it carries the concept's verdict.
+
+    The condition is the probe set's ``condition`` column when it has one, else ``visible`` /
+    ``occluded`` from ``visible_violation``. Sets whose ``carries_verdict`` is False (a
+    *perceptual* condition: a violation in plain view that a change detector solves) are reported
+    but carry no verdict.
+    """
+    if "condition" in sets.columns:
+        cond = sets["condition"].astype(str).to_numpy()
+    else:
+        cond = np.where(sets["visible_violation"].astype(bool), "visible", "occluded")
+    carries = np.ones(len(sets), dtype=bool)
+    if "carries_verdict" in sets.columns:
+        carries = sets["carries_verdict"].fillna(True).astype(bool).to_numpy()
+    return cond, carries

@@ -11,7 +11,7 @@ Units: scene units (metres-like), y up, angles in radians counter-clockwise. The
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, replace
+from dataclasses import dataclass, replace
 from typing import Any, Literal
 
 #: Per-slot state features, in order. Shape/size attributes are constant for an object.
@@ -101,8 +101,8 @@ class Scene:
         return {
             "extent": list(self.extent),
             "gravity": list(self.gravity),
-            "statics": [asdict(s) for s in self.statics],
-            "occluders": [asdict(o) for o in self.occluders],
+            "statics": [dict(vars(s)) for s in self.statics],  # shallow: fields are immutable
+            "occluders": [dict(vars(o)) for o in self.occluders],
         }
 
     def with_bodies(self, bodies: tuple[Body, ...]) -> Scene:

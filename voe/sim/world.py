@@ -12,6 +12,7 @@ import math
 
 import numpy as np
 import pymunk
+import pymunk.batch
 
 from voe.sim.scene import N_FEATURES, Body, Scene, Segment
 
@@ -19,6 +20,9 @@ STATIC_CAT = 0b001  # walls, shelves, ramps
 OBJECT_CAT = 0b010
 FLOOR_CAT = 0b100  # the ground: separate, so "pass through walls" can keep objects on the floor
 ALL_CATS = STATIC_CAT | OBJECT_CAT | FLOOR_CAT
+_POSE_FIELDS = (pymunk.batch.BodyFields.BODY_ID | pymunk.batch.BodyFields.POSITION
+                | pymunk.batch.BodyFields.ANGLE | pymunk.batch.BodyFields.VELOCITY
+                | pymunk.batch.BodyFields.ANGULAR_VELOCITY)
 
 
 def _make_body(spec: Body) -> tuple[pymunk.Body, pymunk.Shape]:
@@ -48,6 +52,45 @@ def _no_gravity(body: pymunk.Body, gravity, damping, dt) -> None:
     pymunk.Body.update_velocity(body, (0.0, 0.0), damping, dt)
 
 
+Look = tuple[int, tuple[float, ...], bool]  # slot, constant features (is_circle .. intensity), is a box
+
+
+def decode_poses(buf: pymunk.batch.Buffer, frames: list[tuple[int, dict[int, Look | None]]],
+                 n_slots: int) -> np.ndarray:
+    """States ``(T, K, F)`` float64 (NaN rows for missing slots) from ``T`` appended reads.
+
+    Args:
+        buf: the buffer ``World.read_poses`` appended to, once per frame.
+        frames: per frame, the number of bodies read so far (cumulative) and the looks returned.
+    """
+    ids = np.frombuffer(buf.int_buf(), dtype=np.int64)  # (M,)
+    dyn = np.frombuffer(buf.float_buf(), dtype=np.float64).reshape(-1, 6)  # (M, 6) x y angle vx vy omega
+    out = np.full((len(frames), n_slots, N_FEATURES), np.nan)
+    ends = np.array([n for n, _ in frames], dtype=np.int64)
+    counts = np.diff(ends, prepend=0)
+    frame_of = np.repeat(np.arange(len(frames)), counts)  # (M,)
+    looks_of = [lk for _, lk in frames]
+    start = 0
+    for f in range(1, len(frames) + 1):  # runs of frames that share one looks dict (usually all)
+        if f < len(frames) and looks_of[f] is looks_of[start]:
+            continue
+        a, b = (ends[start - 1] if start else 0), ends[f - 1]
+        looks = looks_of[start]
+        uniq, inv = np.unique(ids[a:b], return_inverse=True)
+        table = [looks[int(u)] for u in uniq]
+        slot = np.array([-1 if lk is None else lk[0] for lk in table])[inv]  # (m,)
+        keep = slot >= 0
+        rows, cols = frame_of[a:b][keep], slot[keep]
+        out[rows, cols, :6] = dyn[a:b][keep]
+        tails = np.array([(np.nan,) * 5 if lk is None else lk[1] for lk in table])  # (u, 5)
+        out[rows, cols, 6:] = tails[inv][keep]
+        boxes = np.array([lk is not None and lk[2] for lk in table])[inv][keep]
+        for r, c in zip(rows[boxes].tolist(), cols[boxes].tolist(), strict=True):
+            out[r, c, 2] = math.remainder(out[r, c, 2], 2 * math.pi)
+        start = f
+    return out
+
+
 class World:
     """A pymunk space plus slot bookkeeping.
 
@@ -64,6 +107,8 @@ class World:
         self.space = pymunk.Space()
         self.space.gravity = scene.gravity
         self.space.iterations = 20
+        self._batch: pymunk.batch.Buffer = pymunk.batch.Buffer()
+        self._looks: dict[int, Look | None] | None = None  # body id -> look, see ``looks``
         for seg in scene.statics:
             self._add_static(seg)
         for spec in scene.bodies:
@@ -82,12 +127,14 @@ class World:
         """Add a dynamic object in slot ``spec.slot``."""
         body, shape = _make_body(spec)
         self.space.add(body, shape)
+        self._looks = None  # rebuilt on the next read: a new body may reuse a removed one's id
 
     def copy(self) -> World:
         """Branch the rollout: an independent world with identical state, contacts included."""
         new = object.__new__(World)
         new.scene, new.dt, new.substeps = self.scene, self.dt, self.substeps
         new.space = self.space.copy()
+        new._batch, new._looks = pymunk.batch.Buffer(), None
         return new
 
     # -- access ------------------------------------------------------------------------
@@ -103,6 +150,7 @@ class World:
         """Delete the object in ``slot`` (it stops existing)."""
         b = self.body(slot)
         self.space.remove(b, *b.shapes)
+        self._looks = None
 
     def set_passable(self, slot: int, statics: bool = True, objects: bool = True, floor: bool = False) -> None:
         """Let the object pass through walls/shelves/ramps, other objects and/or the floor."""
@@ -139,17 +187,34 @@ class World:
         for _ in range(self.substeps):
             self.space.step(h)
 
+    def looks(self) -> dict[int, Look | None]:
+        """Body id -> (slot, constant features, is a box) of every body now in the space; the
+        space's own static body maps to None. A new dict whenever bodies were added or removed,
+        so a reference taken now stays valid for the frames read now."""
+        if self._looks is None:
+            self._looks = {self.space.static_body.id: None}
+            for b in self.space.bodies:
+                spec: Body = b.voe_spec
+                tail = (spec.shape == "circle", spec.shape == "box", spec.width, spec.height, spec.intensity)
+                self._looks[b.id] = (spec.slot, tail, spec.shape == "box")
+        return self._looks
+
+    def read_poses(self, buf: pymunk.batch.Buffer) -> dict[int, Look | None]:
+        """Append every body's id, x, y, angle, vx, vy, omega to ``buf`` (one C call); returns the
+        ``looks`` that decode them (see ``decode_poses``)."""
+        pymunk.batch.get_space_bodies(self.space, _POSE_FIELDS, buf)
+        return self.looks()
+
+    def poses(self, n_slots: int) -> np.ndarray:
+        """True state of every slot now: ``(K, F)`` float64, NaN rows for missing objects."""
+        self._batch.clear()
+        looks = self.read_poses(self._batch)
+        n = len(self._batch.int_buf()) // 8
+        return decode_poses(self._batch, [(n, looks)], n_slots)[0]
+
     def observe(self, n_slots: int) -> np.ndarray:
         """State of every slot now: ``(K, F)`` float32, NaN rows for missing objects."""
-        out = np.full((n_slots, N_FEATURES), np.nan, dtype=np.float32)
-        for slot, b in self.bodies().items():
-            spec: Body = b.voe_spec
-            angle = math.remainder(b.angle, 2 * math.pi) if spec.shape == "box" else b.angle
-            out[slot] = (
-                b.position.x, b.position.y, angle, b.velocity.x, b.velocity.y, b.angular_velocity,
-                spec.shape == "circle", spec.shape == "box", spec.width, spec.height, spec.intensity,
-            )
-        return out
+        return self.poses(n_slots).astype(np.float32)
 
     def bboxes(self) -> dict[int, tuple[tuple[float, float], tuple[float, float]]]:
         """Axis-aligned bounding boxes by slot, for occlusion tests."""

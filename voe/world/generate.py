@@ -4,7 +4,8 @@ Why: models must be trainable *without* a concept for the validity controls, so 
 can be simulated under a counterfactual law (``gravity_off``, ``pass_through``,
 ``vanish_when_occluded``). Each clip is seeded from ``(seed, clip index)`` alone, so a set is
 byte-identical whatever ``jobs`` is, and a counterfactual set shows the same scenes as the ordinary
-set of the same seed.
+set of the same seed. Clips stream from ``parallel_map`` (in order) into the shard writer, so
+memory does not grow with ``n``.
 """
 
 from __future__ import annotations

@@ -16,6 +16,10 @@ EFFECTS.register("friction", "voe.gap.effects.friction:Friction")
 EFFECTS.register("angular_damping", "voe.gap.effects.angular_damping:AngularDamping")
 EFFECTS.register("spring_anchor", "voe.gap.effects.spring_anchor:SpringAnchor")
 EFFECTS.register("mass", "voe.gap.effects.mass:Mass")
+EFFECTS.register("joint_damping", "voe.gap.effects.joint:JointDamping")
+EFFECTS.register("joint_friction", "voe.gap.effects.joint:JointFriction")
+EFFECTS.register("friction_region", "voe.gap.effects.region:FrictionRegion")
+EFFECTS.register("rolling_resistance_region", "voe.gap.effects.region:RollingResistanceRegion")
 EFFECTS.register("none", "voe.gap.effects.none:NoEffect")
 
 __all__ = ["EFFECTS"]

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from voe.gap.effects.base import Effect, FitContext
-from voe.sim.scenefile import SimState
+from voe.sim.scenefile import SceneSpec, SimState
 
 
 class AngularDamping(Effect):
@@ -18,6 +18,7 @@ class AngularDamping(Effect):
     units = ("N m s/rad",)
     contexts = ("swinging", "flight")
     summary = "rotation is damped in proportion to angular rate (viscous joint or spin damping)"
+    bench_scene = "arena"
 
     def _forces(self, state: SimState, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return np.zeros_like(state.pos), -p[0] * state.omega
@@ -38,3 +39,6 @@ class AngularDamping(Effect):
 
     def bounds(self, ctx: FitContext) -> tuple[np.ndarray, np.ndarray]:
         return np.array([0.0]), np.array([1e3 * self._inertia(ctx)])
+
+    def bench_prior(self, scene: SceneSpec, rng: np.random.Generator) -> tuple[np.ndarray, tuple[str, ...] | None]:
+        return np.array([rng.uniform(0.3, 1.0) * scene.bodies[0].moment_value() * 3]), None

@@ -53,6 +53,9 @@ class Effect:
     contexts: ClassVar[tuple[str, ...]] = ()
     summary: ClassVar[str] = ""
     sparse: ClassVar[bool] = False  # acts in few windows only (collisions between bodies): fit where it acts
+    acts: ClassVar[str] = "always"  # when it acts: "always", "contact" (at contacts/impacts), "region", "joint"
+    flight_regression: ClassVar[bool] = True  # free-flight accelerations can seed its starts (voe.gap.prefit)
+    bench_scene: ClassVar[str | None] = None  # the bench scene it is concealed in ("arena", "pendulum"), or None
 
     def __init__(self, bodies: tuple[str, ...] | None = None) -> None:
         self.bodies = tuple(bodies) if bodies else None
@@ -92,6 +95,26 @@ class Effect:
     def bounds(self, ctx: FitContext) -> tuple[np.ndarray, np.ndarray]:
         """Lower and upper bounds, (P,) each."""
         return np.full(self.n_params, -np.inf), np.full(self.n_params, np.inf)
+
+    def nominal(self, ctx: FitContext) -> np.ndarray:
+        """(P,) parameter values at which the effect changes nothing (NaN where none exists, e.g.
+        a position). A fitted effect whose 95 % interval contains its nominal values is not
+        established. Default: zero strength in the first parameter, no nominal for the rest."""
+        out = np.full(self.n_params, np.nan)
+        if self.n_params:
+            out[0] = 0.0
+        return out
+
+    def applies(self, scene: SceneSpec) -> bool:
+        """Whether the effect is a distinct candidate on ``scene`` (e.g. joint effects need joints)."""
+        return True
+
+    def bench_prior(self, scene: SceneSpec, rng: np.random.Generator) -> tuple[np.ndarray, tuple[str, ...] | None]:
+        """A random concealed strength (and bodies) for the bench, strong enough to matter.
+
+        Effects with a ``bench_scene`` implement it; the bench's truths are read from the registry.
+        """
+        raise NotImplementedError(f"{self.name} declares no bench prior")
 
     def may_act(self, scene: SceneSpec, pose: np.ndarray) -> bool:
         """Whether the effect can change a window whose recorded poses are ``pose`` (n, B, 3).
@@ -233,6 +256,9 @@ class EffectSum(Effect):
 
     def scale(self, ctx: FitContext) -> np.ndarray:
         return np.concatenate([e.scale(ctx) for e in self._parts]) if self._parts else np.zeros(0)
+
+    def nominal(self, ctx: FitContext) -> np.ndarray:
+        return np.concatenate([e.nominal(ctx) for e in self._parts]) if self._parts else np.zeros(0)
 
     def bounds(self, ctx: FitContext) -> tuple[np.ndarray, np.ndarray]:
         b = [e.bounds(ctx) for e in self._parts]

@@ -19,6 +19,8 @@ class Friction(Effect):
     units = ("",)
     contexts = ("sliding",)
     summary = "sliding contacts have a different friction coefficient than the scene says"
+    acts = "contact"
+    bench_scene = "arena"
 
     def _materials(self, p: np.ndarray, scene: SceneSpec) -> Materials:
         return Materials(friction=body_mask(np.full(len(scene.bodies), p[0]), self.mask(scene), None))
@@ -31,3 +33,9 @@ class Friction(Effect):
 
     def bounds(self, ctx: FitContext) -> tuple[np.ndarray, np.ndarray]:
         return np.array([0.0]), np.array([3.0])
+
+    def nominal(self, ctx: FitContext) -> np.ndarray:
+        return self.starts(ctx)[0]
+
+    def bench_prior(self, scene: SceneSpec, rng: np.random.Generator) -> tuple[np.ndarray, tuple[str, ...] | None]:
+        return np.array([rng.choice([rng.uniform(0.1, 0.2), rng.uniform(1.1, 1.5)])]), None

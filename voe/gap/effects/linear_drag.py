@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from voe.gap.effects.base import Effect, FitContext
-from voe.sim.scenefile import SimState
+from voe.sim.scenefile import SceneSpec, SimState
 
 
 class LinearDrag(Effect):
@@ -18,6 +18,7 @@ class LinearDrag(Effect):
     units = ("1/s",)
     contexts = ("flight",)
     summary = "bodies decelerate in proportion to their speed (linear, viscous drag)"
+    bench_scene = "arena"
 
     def _forces(self, state: SimState, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return -p[0] * state.mass[:, None] * state.vel, np.zeros_like(state.angle)
@@ -30,3 +31,6 @@ class LinearDrag(Effect):
 
     def bounds(self, ctx: FitContext) -> tuple[np.ndarray, np.ndarray]:
         return np.array([0.0]), np.array([50.0])
+
+    def bench_prior(self, scene: SceneSpec, rng: np.random.Generator) -> tuple[np.ndarray, tuple[str, ...] | None]:
+        return np.array([rng.uniform(0.15, 0.5)]), None

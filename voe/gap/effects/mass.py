@@ -22,9 +22,17 @@ class Mass(Effect):
     units = ("x nominal",)
     contexts = ("impact",)
     summary = "a body is heavier or lighter than the scene says"
+    acts = "contact"
+    bench_scene = "arena"
     per_body = True
     sparse = True
     RATIOS = np.array([0.3, 0.5, 0.75, 1.0, 1.35, 2.0, 3.3])  # about x1.5 apart
+
+    def applies(self, scene: SceneSpec) -> bool:
+        """Only with two bodies or more: scaling a lone body's mass and moment together changes
+        its motion under gravity, contacts with statics and a world pivot not at all; with other
+        effects it only rescales their absolute strengths (a damping torque), a false trade-off."""
+        return len(scene.bodies) > 1
 
     def _materials(self, p: np.ndarray, scene: SceneSpec) -> Materials:
         m = self.mask(scene)
@@ -55,3 +63,9 @@ class Mass(Effect):
 
     def bounds(self, ctx: FitContext) -> tuple[np.ndarray, np.ndarray]:
         return np.array([0.05]), np.array([20.0])
+
+    def nominal(self, ctx: FitContext) -> np.ndarray:
+        return np.ones(1)
+
+    def bench_prior(self, scene: SceneSpec, rng: np.random.Generator) -> tuple[np.ndarray, tuple[str, ...] | None]:
+        return np.array([rng.choice([rng.uniform(0.3, 0.5), rng.uniform(2.0, 3.0)])]), (scene.names[-1],)

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from voe.gap.effects.base import Effect, FitContext
-from voe.sim.scenefile import SimState
+from voe.sim.scenefile import SceneSpec, SimState
 
 _SOFT = 0.1  # m
 
@@ -21,6 +21,8 @@ class PointAttractor(Effect):
     units = ("m^3/s^2", "m", "m")
     contexts = ("region",)
     summary = "bodies are pulled toward a point (a hidden attractor)"
+    acts = "region"
+    bench_scene = "arena"
 
     def _forces(self, state: SimState, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         d = p[None, 1:3] - state.pos  # (B, 2)
@@ -40,3 +42,6 @@ class PointAttractor(Effect):
         span = ctx.hi - ctx.lo + 1.0
         return (np.array([0.0, ctx.lo[0] - span[0], ctx.lo[1] - span[1]]),
                 np.array([100.0, ctx.hi[0] + span[0], ctx.hi[1] + span[1]]))
+
+    def bench_prior(self, scene: SceneSpec, rng: np.random.Generator) -> tuple[np.ndarray, tuple[str, ...] | None]:
+        return np.array([rng.uniform(0.5, 2.0), rng.uniform(-2, 2), rng.uniform(0.5, 2.0)]), None

@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from voe.gap.effects.base import Effect, FitContext
-from voe.sim.scenefile import SimState
+from voe.sim.scenefile import SceneSpec, SimState
 
 
 class QuadraticDrag(Effect):
@@ -17,6 +17,7 @@ class QuadraticDrag(Effect):
     units = ("1/m",)
     contexts = ("flight",)
     summary = "bodies decelerate in proportion to speed squared (quadratic air drag)"
+    bench_scene = "arena"
 
     def _forces(self, state: SimState, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         speed = np.linalg.norm(state.vel, axis=1, keepdims=True)  # (B, 1)
@@ -30,3 +31,6 @@ class QuadraticDrag(Effect):
 
     def bounds(self, ctx: FitContext) -> tuple[np.ndarray, np.ndarray]:
         return np.array([0.0]), np.array([50.0])
+
+    def bench_prior(self, scene: SceneSpec, rng: np.random.Generator) -> tuple[np.ndarray, tuple[str, ...] | None]:
+        return np.array([rng.uniform(0.05, 0.2)]), None

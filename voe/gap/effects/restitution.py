@@ -18,6 +18,8 @@ class Restitution(Effect):
     units = ("",)
     contexts = ("impact",)
     summary = "bounces keep a different fraction of speed than the scene says (restitution)"
+    acts = "contact"
+    bench_scene = "arena"
 
     def _materials(self, p: np.ndarray, scene: SceneSpec) -> Materials:
         return Materials(elasticity=body_mask(np.full(len(scene.bodies), p[0]), self.mask(scene), None))
@@ -30,3 +32,10 @@ class Restitution(Effect):
 
     def bounds(self, ctx: FitContext) -> tuple[np.ndarray, np.ndarray]:
         return np.array([0.0]), np.array([1.0])
+
+    def nominal(self, ctx: FitContext) -> np.ndarray:
+        return self.starts(ctx)[0]
+
+    def bench_prior(self, scene: SceneSpec, rng: np.random.Generator) -> tuple[np.ndarray, tuple[str, ...] | None]:
+        e = float(np.mean([b.elasticity for b in scene.bodies]))
+        return np.array([np.clip(e + rng.choice([-1, 1]) * rng.uniform(0.2, 0.3), 0.05, 0.95)]), None

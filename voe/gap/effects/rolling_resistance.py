@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from voe.gap.effects.base import Effect, FitContext
-from voe.sim.scenefile import SimState
+from voe.sim.scenefile import SceneSpec, SimState
 
 _V0 = 0.01  # m/s, smoothing speed of the direction
 
@@ -21,6 +21,8 @@ class RollingResistance(Effect):
     units = ("",)
     contexts = ("rolling",)
     summary = "bodies in contact slow down at a constant rate (rolling resistance)"
+    acts = "contact"
+    bench_scene = "arena"
 
     def _forces(self, state: SimState, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         touching = state.contact().astype(float)  # (B,)
@@ -37,3 +39,6 @@ class RollingResistance(Effect):
 
     def bounds(self, ctx: FitContext) -> tuple[np.ndarray, np.ndarray]:
         return np.array([0.0]), np.array([1.0])
+
+    def bench_prior(self, scene: SceneSpec, rng: np.random.Generator) -> tuple[np.ndarray, tuple[str, ...] | None]:
+        return np.array([rng.uniform(0.03, 0.1)]), None

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from voe.gap.effects.base import Effect, FitContext
-from voe.sim.scenefile import SimState
+from voe.sim.scenefile import SceneSpec, SimState
 
 
 class SpringAnchor(Effect):
@@ -19,6 +19,7 @@ class SpringAnchor(Effect):
     units = ("1/s^2", "m", "m")
     contexts = ("region",)
     summary = "bodies are pulled back toward an anchor in proportion to distance (a spring)"
+    bench_scene = "arena"
 
     def _forces(self, state: SimState, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return -p[0] * state.mass[:, None] * (state.pos - p[None, 1:3]), np.zeros_like(state.angle)
@@ -36,3 +37,6 @@ class SpringAnchor(Effect):
         span = ctx.hi - ctx.lo + 1.0
         return (np.array([0.0, ctx.lo[0] - span[0], ctx.lo[1] - span[1]]),
                 np.array([1000.0, ctx.hi[0] + span[0], ctx.hi[1] + span[1]]))
+
+    def bench_prior(self, scene: SceneSpec, rng: np.random.Generator) -> tuple[np.ndarray, tuple[str, ...] | None]:
+        return np.array([rng.uniform(0.3, 1.0), rng.uniform(-2, 2), rng.uniform(0.0, 2.0)]), None

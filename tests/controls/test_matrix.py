@@ -1,0 +1,116 @@
+"""The matrix's could-fail split, confounded verdicts, random networks and decisive set counts."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from voe.controls.builtin import builtin_controls
+from voe.controls.confound import apply_confounding, confounders
+from voe.controls.matrix import outcome_ok, specificity_matrix
+from voe.controls.spec import Control
+from voe.scoring.runs import Run
+from voe.scoring.stats import holm, permutation_pvalue
+from voe.scoring.verdict import CONFOUNDED, LEARNED, NOT_LEARNED, min_sets_decisive, verdict
+
+
+def _run(nll: np.ndarray, n_sets: int, label: str = "m") -> Run:
+    """Pairs: clip 2i possible, 2i+1 impossible; sets alternate visible/occluded."""
+    rows = []
+    for i in range(2 * n_sets):
+        s = i // 2
+        rows.append({"clip_id": f"c{i}", "concept": "X-v1", "set_id": f"x-{s:02d}", "set_kind": "pair",
+                     "variant": "p", "role": "impossible" if i % 2 else "possible", "onset_frame": 1,
+                     "visible_violation": bool(s % 2), "n_distractors": 0})
+    return Run(None, {}, pd.DataFrame(rows), nll, label)
+
+
+def test_constant_and_balanced_chance_cells_could_not_fail_the_rest_could():
+    n = 10
+    const = _run(np.ones((2 * n, 3)), n, "const")
+    rng = np.random.default_rng(0)
+    noisy = _run(rng.normal(size=(2 * n, 3)), n, "noisy")
+    ctrls = [Control("const", "random-net", "m", default="chance"),
+             Control("fb", "knowledge-free", "m", default="chance", invariant_to="F"),
+             Control("fb2", "knowledge-free", "m", default="chance", invariant_to="F")]
+    bal = pd.DataFrame({"concept": "X-v1", "set_id": [f"x-{s:02d}" for s in range(n)], "F": True})
+    bal.loc[3, "F"] = False  # one set short of F balance: the F scorer could have failed
+    m = specificity_matrix(ctrls, [const, noisy, noisy], n_boot=200, balance=bal)
+    allrow = m[m["condition"] == "all"].set_index("control")
+    assert allrow.loc["const", "could_fail"] == False  # noqa: E712 (a constant ties by construction)
+    assert allrow.loc["fb", "could_fail"] == True  # noqa: E712
+    cond = m[(m["control"] == "fb") & (m["condition"] != "all")].set_index("condition")
+    assert cond.loc["occluded", "could_fail"] == False and cond.loc["visible", "could_fail"] == True  # noqa: E712
+    assert cond.loc["occluded", "expected"] == "chance"  # inherited by verdict-carrying conditions
+
+
+@pytest.mark.parametrize(("expect", "verdict_", "ok"), [("not-learned", LEARNED, False),
+                                                        ("not-learned", "inconclusive", True),
+                                                        ("not-learned", NOT_LEARNED, True)])
+def test_not_learned_declarations(expect, verdict_, ok):
+    assert outcome_ok(expect, verdict_, 0.6, 0.9) is ok
+
+
+def test_min_sets_decisive_by_hand_and_a_perfect_score_then_is_learned():
+    assert [min_sets_decisive(m) for m in (1, 8, 16, 24)] == [5, 8, 9, 9]  # 16 * 2**-9 < .05 < 16 * 2**-8
+    for m in (8, 16):
+        n = min_sets_decisive(m)
+        p = holm(np.full(m, permutation_pvalue(np.ones(n))))
+        assert verdict(1.0, 1.0, 1.0, p[0])[0] == LEARNED
+        p = holm(np.full(m, permutation_pvalue(np.ones(n - 1))))
+        assert verdict(1.0, 1.0, 1.0, p[0])[0] != LEARNED
+
+
+def _matrix_row(control, family, acc, lo, hi, verdict_, expected, condition="all", concept="X-v1", p2=0.001):
+    return {"control": control, "family": family, "concept": concept, "condition": condition,
+            "carries_verdict": True, "accuracy": acc, "ci_low": lo, "ci_high": hi, "verdict": verdict_,
+            "expected": expected, "p_two_sided": p2}
+
+
+def test_confounded_when_a_knowledge_free_control_is_off_chance_either_way_or_a_reference_overreaches():
+    m = pd.DataFrame([
+        _matrix_row("height", "knowledge-free", 0.5, 0.3, 0.7, NOT_LEARNED, "chance", concept="A-v1"),
+        _matrix_row("height", "knowledge-free", 0.0, 0.0, 0.1, NOT_LEARNED, "chance", concept="B-v1"),  # reversed
+        _matrix_row("constvel", "physics-poor", 1.0, 1.0, 1.0, LEARNED, "not-learned", concept="C-v1"),
+        _matrix_row("constvel", "physics-poor", 1.0, 1.0, 1.0, LEARNED, "pass", concept="A-v1"),  # declared
+        _matrix_row("lesion", "lesion", 0.0, 0.0, 0.0, NOT_LEARNED, "pass", concept="A-v1"),  # not a confound
+        _matrix_row("speed", "knowledge-free", 0.9, 0.8, 1.0, LEARNED, "chance", "visible", concept="D-v1"),
+    ])
+    m.loc[len(m)] = _matrix_row("speed", "knowledge-free", 0.0, 0.0, 0.0, NOT_LEARNED, "chance",
+                                concept="F-v1", p2=0.25)  # three sets that happen to agree
+    conf = confounders(m, no_balance={"E-v1"}).set_index(["concept", "condition"])
+    assert not conf.loc[("F-v1", "all"), "confounded"]
+    assert not conf.loc[("A-v1", "all"), "confounded"]
+    assert conf.loc[("B-v1", "all"), "by"] == "height 0.00 [0.00, 0.10]"
+    assert conf.loc[("C-v1", "all"), "confounded"] and conf.loc[("D-v1", "visible"), "confounded"]
+    m = m[m["concept"] != "F-v1"]
+    summary = pd.DataFrame({"model": "m", "concept": ["A-v1", "B-v1", "C-v1", "D-v1"],
+                            "verdict": [LEARNED, LEARNED, NOT_LEARNED, LEARNED]})
+    out = apply_confounding(summary, confounders(m)).set_index("concept")
+    assert out["verdict"].tolist() == [LEARNED, CONFOUNDED, CONFOUNDED, CONFOUNDED]
+    assert out.loc["B-v1", "raw_verdict"] == LEARNED and "visible: speed 0.90" in out.loc["D-v1", "confounded_by"]
+
+
+def test_concepts_without_a_balanced_design_are_always_confounded():
+    m = pd.DataFrame([_matrix_row("height", "knowledge-free", 0.5, 0.3, 0.7, NOT_LEARNED, "chance")])
+    conf = confounders(m, no_balance={"X-v1"})
+    assert conf["confounded"].all() and conf["by"].iloc[0] == "declares no balanced design"
+
+
+def test_random_networks_are_ten_per_architecture_non_constant_and_differ_by_seed(tiny_probes):
+    pytest.importorskip("torch")
+    from voe.controls.random_nets import random_network
+    from voe.io.probeset import load_probe_set
+
+    nets = [c for c in builtin_controls(("random-net",))]
+    for arch in ("mlp", "interaction", "pixel"):
+        assert sum(c.args["arch"] == arch for c in nets) >= 10
+    ps = load_probe_set(tiny_probes)
+    batch = ps.batch(list(ps.index["clip_id"][:6]))
+    for arch in ("mlp", "interaction", "pixel"):
+        a, b = random_network(arch, 0), random_network(arch, 1)
+        assert all(p.any() for p in a.weights().values() if p.ndim > 1), f"{arch} kept a zero layer"
+        x, y = a.frame_nll(batch)[:, 1:], b.frame_nll(batch)[:, 1:]  # (B, T-1)
+        assert np.isfinite(x).all() and x.std(0).mean() > 1e-3, f"{arch} is constant across clips"
+        assert not np.allclose(x, y), f"{arch}: two seeds give the same function"

@@ -1,0 +1,129 @@
+"""The staged finder's parts: splits, noise model, intervals, joints, regions, verdicts."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from voe.errors import DataError
+from voe.gap import GapFinder
+from voe.gap.effects import EFFECTS
+from voe.gap.effects.base import EffectSum
+from voe.gap.effects.region import inside
+from voe.gap.fit import FitResult
+from voe.gap.folds import without
+from voe.gap.recordings import Episode
+from voe.gap.search import context_match
+from voe.gap.shooting import Shooter, make_windows, noise_model
+from voe.gap.split import split_episodes
+from voe.gap.stages import context_for
+from voe.gap.synth import ar1_noise
+from voe.gap.uncertainty import established, intervals
+from voe.sim.scenefile import BodySpec, JointSpec, SceneSpec, SimState
+
+from .conftest import flight_episodes
+
+
+def test_three_way_split_and_cross_validation_fallback():
+    s = split_episodes(12)
+    assert (s.fit, s.select, s.test) == (tuple(range(6)), (6, 7, 8, 9), (10, 11)) and not s.cross_validated
+    s = split_episodes(6)
+    assert (s.fit, s.select, s.test) == ((0, 1, 2), (3, 4), (5,))
+    s = split_episodes(3)
+    assert s.cross_validated and s.folds[1] == ((0, 2), (1,)) and "cross-validation" in s.note
+    with pytest.raises(ValueError, match="two episodes"):
+        split_episodes(1)
+
+
+def test_noise_model_tells_white_from_coloured():
+    rng = np.random.default_rng(0)
+    t = np.arange(2000) / 100
+    smooth = np.stack([np.sin(t), 1 - 4.9 * t**2 / 100, 0.3 * t], axis=1)[:, None]  # (T, 1, 3)
+    sigma = np.array([[1e-3, 1e-3, 1e-2]])
+    white = [Episode(0, t, smooth + rng.normal(size=smooth.shape) * sigma[None])]
+    s, phi = noise_model(white)
+    np.testing.assert_allclose(s, sigma, rtol=0.1)
+    assert np.all(phi == 0)
+    col = [Episode(0, t, smooth + ar1_noise(smooth.shape, sigma, 0.7, rng))]
+    s, phi = noise_model(col)
+    assert np.all(np.abs(phi - 0.7) < 0.15)
+    np.testing.assert_allclose(s, sigma, rtol=0.3)  # white fourth differences would say 0.45x
+
+
+def test_intervals_cover_a_drag_and_reject_an_empty_second_effect():
+    scene, eps = flight_episodes("linear_drag", [0.4], n=3, duration=2.0, seed=6)
+    ctx = context_for(scene, eps)
+    sh = Shooter(scene, eps, 1e-3, 8)
+    wins = make_windows(eps, [0, 1, 2], 1.0)
+    both = EffectSum((EFFECTS.get("linear_drag")(), EFFECTS.get("quadratic_drag")()))
+    lo, hi = intervals(sh, noise_model(eps)[0], wins, both, np.array([0.4, 0.0]), ctx)
+    assert lo[0] < 0.4 < hi[0] and hi[0] - lo[0] < 0.05
+    assert lo[1] == 0.0  # the empty quadratic drag cannot be told from zero
+    assert established(both, lo, hi, ctx) == [True, False]
+
+
+def test_without_drops_one_part_and_keeps_each_folds_parameters():
+    both = EffectSum((EFFECTS.get("linear_drag")(), EFFECTS.get("constant_acceleration")()))
+    res = FitResult(both, np.array([0.4, 1.0, 2.0]), 0.0, 0.0, np.ones(3), (np.array([0.4, 1.0, 2.0]), np.array([0.5, 1.5, 2.5])))
+    eff, starts = without(res, 0)
+    assert [e.name for e in eff.parts] == ["constant_acceleration"]
+    np.testing.assert_array_equal(starts[1], [1.5, 2.5])
+    assert without(FitResult(EFFECTS.get("linear_drag")(), np.ones(1), 0, 0), 0)[0] is None
+
+
+def test_region_context_matches_its_detailed_label():
+    assert context_match(("region",), {"region x 0.10..0.50 m, y 0.00..1.00 m"})
+    assert not context_match(("flight",), {"region x 0.10..0.50 m, y 0.00..1.00 m"})
+
+
+def _two_arms() -> SceneSpec:
+    arm = BodySpec("a", "box", mass=1.0, size=(0.02, 0.2))
+    return SceneSpec((0.0, -9.81), (arm, BodySpec("b", "box", mass=1.0, size=(0.02, 0.2))),
+                     joints=(JointSpec("a", None, (0.0, 0.1), (0.0, 0.0)), JointSpec("a", "b", (0.0, -0.1), (0.0, 0.1))))
+
+
+def test_joint_torques_act_on_relative_rotation():
+    scene = _two_arms()
+    st = SimState(np.zeros((2, 2)), np.zeros((2, 2)), np.zeros(2), np.array([1.0, 3.0]), np.ones(2), np.ones(2),
+                  np.array([0.0, -9.81]), lambda: np.zeros(2, bool))
+    _, tau = EFFECTS.get("joint_damping")().forces(st, np.array([0.5]), scene)
+    # world pivot on a: -0.5 * 1; elbow: w_rel = 1 - 3 = -2 -> +1 on a, -1 on b
+    np.testing.assert_allclose(tau, [-0.5 + 1.0, -1.0])
+    _, tau = EFFECTS.get("joint_friction")().forces(st, np.array([0.2]), scene)
+    np.testing.assert_allclose(tau, [-0.2 + 0.2, -0.2], atol=1e-3)
+    one = SceneSpec(scene.gravity, scene.bodies[:1], joints=scene.joints[:1])
+    assert not EFFECTS.get("joint_damping")().applies(one)  # on a world pivot it is angular_damping
+    assert EFFECTS.get("joint_friction")().applies(one)
+
+
+def test_region_effects_act_only_inside_their_interval_and_in_contact():
+    np.testing.assert_allclose(inside(np.array([-1.0, 0.5, 2.0]), 0.0, 1.0), [0, 1, 0], atol=1e-6)
+    scene = SceneSpec((0.0, -9.81), (BodySpec("box", "box", mass=2.0, size=(0.2, 0.2)),))
+    eff = EFFECTS.get("rolling_resistance_region")()
+
+    def state(x: float, touching: bool) -> SimState:
+        return SimState(np.array([[x, 0.1]]), np.array([[1.0, 0.0]]), np.zeros(1), np.zeros(1), np.array([2.0]),
+                        np.ones(1), np.array([0.0, -9.81]), lambda: np.array([touching]))
+
+    f, _ = eff.forces(state(0.5, True), np.array([0.1, 0.0, 1.0]), scene)
+    np.testing.assert_allclose(f, [[-0.1 * 9.81 * 2.0, 0.0]], rtol=1e-3)
+    assert np.allclose(eff.forces(state(2.0, True), np.array([0.1, 0.0, 1.0]), scene)[0], 0, atol=1e-9)
+    assert np.allclose(eff.forces(state(0.5, False), np.array([0.1, 0.0, 1.0]), scene)[0], 0)
+
+
+def test_in_memory_wild_value_is_refused():
+    scene, eps = flight_episodes(n=4, duration=0.5)
+    pose = eps[1].pose.copy()
+    pose[7, 0, 0] = 1e300
+    eps[1] = Episode(eps[1].id, eps[1].t, pose)
+    with pytest.raises(DataError, match="episode 1.*sample 7"):
+        GapFinder(effects=("linear_drag",)).fit(scene, eps)
+
+
+def test_located_mismatch_no_effect_explains_is_unexplained():
+    scene, eps = flight_episodes("constant_acceleration", [1.5, 0.0], n=4, duration=1.5, seed=3)
+    f = GapFinder(effects=("angular_damping",), max_effects=1, seed=0).fit(scene, eps)
+    assert f.verdict_ == "unexplained" and f.effects_ == []
+    assert "agree" not in f.explanation_ and "No effect in the library explains it" in f.explanation_
+    assert "episode" in f.explanation_ and " t = " in f.explanation_ and " x " in f.explanation_
+    assert f.to_dict()["episodes"]["scheme"] == "three-way"

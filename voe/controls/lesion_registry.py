@@ -1,0 +1,217 @@
+"""The lesion registry: one small class per knocked-out law, with its declarations and reasons.
+
+Why a registry of classes: what a lesion changes (one oracle hook) and what it promises (which
+concepts it must break, with the reason) belong together, and whoever adds a lesion or a concept
+must see both. Every lesion declares an expectation for *every* registered concept, each with a
+reason: there is no silent "pass" default (``undeclared`` lists what is missing, and the
+conformance test fails on it).
+
+Expectations (``voe.controls.spec``): ``pass`` (learned), ``fail`` (not learned), ``chance`` (CI
+contains 0.5), ``none`` (no claim on the whole concept, e.g. when the claim is per condition:
+``concept/occluded``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import Any, ClassVar
+
+import numpy as np
+
+from voe.models import statelik as sl
+from voe.sim.scene import Scene
+from voe.sim.world import World
+
+#: Elasticity hypotheses of ``energy-gain``: the intact grid continued up to 1.8, so that
+#: restitutions above 1 (a bounce higher than the drop) are as likely a priori as ordinary ones.
+ENERGY_GAIN_GRID = tuple(round(0.1 + 0.05 * i, 2) for i in range(35))
+
+Declarations = dict[str, tuple[str, str]]  # concept (or concept/condition) -> (expectation, why)
+
+
+def keeps(concepts: tuple[str, ...], why: str) -> Declarations:
+    """``pass`` on each of ``concepts`` for the one stated reason."""
+    return {c: ("pass", why) for c in concepts}
+
+
+def occluded_only(concepts: tuple[str, ...], why: str) -> Declarations:
+    """Fail on the occluded condition, pass on the in-view ones (``visible``, ``perceptual``), no
+    claim on the whole concept (whose verdict sets may or may not include an in-view condition)."""
+    out: Declarations = {}
+    seen = "in plain view nothing needs remembering"
+    for c in concepts:
+        out.update({c: ("none", f"claims per condition only: {why}"), f"{c}/occluded": ("fail", why),
+                    f"{c}/visible": ("pass", seen), f"{c}/perceptual": ("pass", seen)})
+    return out
+
+
+class Lesion:
+    """One knocked-out law: oracle hooks (identity by default) and declarations.
+
+    Subclasses set ``name``, ``summary`` and ``declares`` and override the hooks they change.
+    """
+
+    name: ClassVar[str]
+    summary: ClassVar[str]
+    declares: ClassVar[Declarations]
+
+    def oracle_args(self, kw: dict[str, Any]) -> dict[str, Any]:
+        return kw
+
+    def geometry(self, geo: dict[str, Any]) -> dict[str, Any]:
+        return geo
+
+    def scene(self, scene: Scene) -> Scene:
+        return scene
+
+    def configure(self, world: World) -> None:
+        """Change a freshly built world's laws in place."""
+
+    def forget(self, present_t: np.ndarray) -> np.ndarray:
+        return np.zeros_like(present_t)
+
+    def predict(self, oracle: Any, mean, kind, circ, pp, contact):
+        return mean, kind, circ, pp, contact
+
+    def shape_prior(self, kind: np.ndarray) -> np.ndarray | None:
+        return None
+
+    def expect(self) -> dict[str, str]:
+        """concept (or ``concept/condition``) -> expectation, for ``voe.controls.spec.Control``."""
+        return {k: v[0] for k, v in self.declares.items()}
+
+    def why(self) -> str:
+        """The summary, then every non-``pass`` declaration with its reason."""
+        parts = [f"{k}: {e} ({w})" for k, (e, w) in self.declares.items() if e != "pass"]
+        return self.summary + "; " + "; ".join(parts)
+
+
+LESIONS: dict[str, type[Lesion]] = {}
+
+
+def register(cls: type[Lesion]) -> type[Lesion]:
+    """Class decorator: add a lesion to ``LESIONS`` under its ``name``."""
+    LESIONS[cls.name] = cls
+    return cls
+
+
+def get_lesion(name: str) -> Lesion:
+    """An instance of the lesion ``name``; one-line error with the known names otherwise."""
+    if name not in LESIONS:
+        from voe.errors import UnknownNameError
+
+        raise UnknownNameError(f"unknown lesion '{name}' (known: {', '.join(LESIONS)})")
+    return LESIONS[name]()
+
+
+def undeclared(lesion: type[Lesion], concepts: list[str]) -> list[str]:
+    """Concept names (lower case, unversioned) that ``lesion`` declares nothing about."""
+    return [c for c in concepts if c not in lesion.declares]
+
+
+_OBJECTS = ("permanence", "continuity", "unchangeableness")
+
+
+@register
+class NoGravity(Lesion):
+    name = "no-gravity"
+    summary = "re-simulates with gravity switched off"
+    declares = {
+        "gravity": ("fail", "expects unsupported objects to keep their velocity, so floating looks normal"),
+        **keeps((*_OBJECTS, "solidity", "inertia", "collision", "energy"),
+                "their violations are seen against the same trajectory with or without gravity"),
+    }
+
+    def geometry(self, geo: dict[str, Any]) -> dict[str, Any]:
+        return {**geo, "gravity": [0.0, 0.0]}
+
+
+@register
+class NoCollisions(Lesion):
+    name = "no-collisions"
+    summary = "objects pass through each other and through walls, shelves and ramps (the floor holds)"
+    declares = {
+        "solidity": ("fail", "expects objects to pass through walls and shelves"),
+        "collision": ("fail", "expects objects to pass through each other"),
+        **keeps((*_OBJECTS, "inertia", "gravity", "energy"),
+                "their violations happen in free flight or on the floor, which still holds"),
+    }
+
+    def configure(self, world: World) -> None:
+        for slot in world.bodies():
+            world.set_passable(slot, statics=True, objects=True, floor=False)
+
+
+@register
+class ForgetOccluded(Lesion):
+    name = "forget-occluded"
+    summary = "forgets what goes out of sight: anything coming into view is a new object"
+    declares = {
+        **occluded_only((*_OBJECTS, "inertia", "collision"),
+                        "vanishing is expected, reappearing is a new object, and changes behind a "
+                        "screen go unnoticed; a hidden collision is judged only by what comes out"),
+        "solidity": ("pass", "the impossible object emerges where none went in, an appearance "
+                             "surprising in itself"),
+        "gravity": ("pass", "the violation is in free flight, in view"),
+        "energy": ("pass", "the impossible ball keeps gaining energy in bounces that follow in view"),
+    }
+
+    def forget(self, present_t: np.ndarray) -> np.ndarray:
+        return ~present_t
+
+    def predict(self, oracle: Any, mean, kind, circ, pp, contact):
+        ret = kind == sl.RETURNING
+        kind = np.where(ret, sl.NEW, kind).astype(kind.dtype)
+        pp = np.where(ret[:, None], oracle.noise.p_present[sl.NEW], pp)
+        return mean, kind, circ, pp, contact
+
+
+@register
+class NoShapeMemory(Lesion):
+    name = "no-shape-memory"
+    summary = ("does not remember shape or size behind a screen (nor, therefore, when a hidden "
+               "object's edges will clear it); in plain view it sees them")
+    declares = {
+        **occluded_only(("unchangeableness",), "a changed shape behind a screen is as likely as the same one"),
+        **keeps(("permanence", "continuity", "solidity", "inertia", "gravity", "collision", "energy"),
+                "their violations do not depend on a hidden object's shape or size"),
+    }
+
+    def predict(self, oracle: Any, mean, kind, circ, pp, contact):
+        ret = kind == sl.RETURNING
+        pp = np.where(ret[:, None], oracle.noise.p_present[sl.RETURNING], pp)
+        return mean, kind, circ, pp, contact
+
+    def shape_prior(self, kind: np.ndarray) -> np.ndarray | None:
+        return kind == sl.RETURNING  # what comes back from behind a screen has a fresh look
+
+
+@register
+class NoInertia(Lesion):
+    name = "no-inertia"
+    summary = "expects objects to stop: each frame is re-simulated from rest"
+    declares = {
+        "inertia": ("fail", "every change of speed is as likely as none"),
+        "collision": ("fail", "a collision is an exchange of momentum; without inertia a bounce "
+                              "and a pass-through are equally unexpected"),
+        **keeps((*_OBJECTS, "solidity", "gravity", "energy"),
+                "their violations (vanishing, changing, passing, floating, rising) are as "
+                "unexpected from rest as in motion"),
+    }
+
+    def scene(self, scene: Scene) -> Scene:
+        return scene.with_bodies(tuple(replace(b, vx=0.0, vy=0.0, omega=0.0) for b in scene.bodies))
+
+
+@register
+class EnergyGain(Lesion):
+    name = "energy-gain"
+    summary = "lets bounces gain energy as readily as lose it (elasticity hypotheses up to 1.8)"
+    declares = {
+        "energy": ("chance", "a too-high bounce is as ordinary as a low one: chance, not reversed"),
+        **keeps((*_OBJECTS, "solidity", "inertia", "gravity", "collision"),
+                "none of their violations is a bounce that gains energy"),
+    }
+
+    def oracle_args(self, kw: dict[str, Any]) -> dict[str, Any]:
+        return {"elasticity": ENERGY_GAIN_GRID, **kw}

@@ -1,0 +1,222 @@
+"""The finder's first stages, each returning a frozen result: prepare the problem, locate the
+mismatch, and search for effects against the identical search on clean data.
+
+Why stages: one long method that fills twenty attributes, read back from ``self`` by every
+helper, hides which step uses what. Here each step takes the results it needs and returns its
+own (``Problem`` -> ``Location`` -> ``Search``), and ``voe.gap.check`` turns them into the
+verdict.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from voe.errors import DataError
+from voe.gap.context import frame_labels, near_contact
+from voe.gap.effects import EFFECTS
+from voe.gap.effects.base import Effect, FitContext
+from voe.gap.fit import FitConfig, Fitter
+from voe.gap.folds import FoldedFitter
+from voe.gap.locate import locate, window_z
+from voe.gap.null import NullRound, NullSearch
+from voe.gap.prefit import flight_samples
+from voe.gap.recordings import Episode, load_recordings
+from voe.gap.scene import load_scene, resolve_joints
+from voe.gap.search import SearchResult, greedy
+from voe.gap.shooting import Shooter, Window, choose_half, make_windows, noise_model
+from voe.gap.split import Split, split_episodes
+from voe.gap.synth import null_like
+from voe.sim.scenefile import SceneSpec
+
+
+@dataclass(frozen=True)
+class GapConfig:
+    """Knobs of the search. Budgets are simulated seconds per evaluation (windows subsampled)."""
+
+    fit_window: float = 1.0
+    locate_window: float = 1.0
+    substep: float | None = None  # default 1 ms, 0.5 ms for scenes with joints
+    fit_budget: float = 8.0  # the data and the null alike
+    test_budget: float = 20.0  # selection windows: simulated once per candidate, cheap, and many steady the gain
+    min_gain: float = 0.05  # practical floor: a selection gain below 5 % is never accepted
+    null_alpha: float = 0.05  # the threshold is the null's best gain at this upper quantile
+    gain_lower_q: float | None = 0.05  # the gain's bootstrap quantile over selection windows must be > 0
+    z_min: float = 5.0
+    fit: FitConfig = FitConfig()
+
+
+@dataclass(frozen=True)
+class Problem:
+    """Scene, recordings and everything estimated from them before any search."""
+
+    scene: SceneSpec
+    episodes: list[Episode]
+    sigma: np.ndarray  # (B, 3) noise floor
+    phi: np.ndarray  # (B, 3) AR(1) coefficient of the noise (0: white)
+    substep: float
+    half: int  # velocity-fit half-width
+    bad: dict[int, np.ndarray]  # per episode, (T,) samples a window must not start at
+    split: Split
+    candidates: dict[str, Effect]
+    shooter: Shooter
+
+
+@dataclass(frozen=True)
+class Location:
+    """Where the recordings leave the nominal model, with the clean replicate that calibrated it."""
+
+    windows: list[Window]
+    located: list[dict]
+    z_threshold: float
+    z_strong: float  # the clean replicate's largest window z: beyond it a stretch is a mismatch
+    null_episodes: list[Episode]
+
+
+@dataclass(frozen=True)
+class Search:
+    """The data's greedy search and the null's rounds; ``fitter`` scores selection windows."""
+
+    result: SearchResult
+    null: tuple[NullRound, ...]
+    fitter: FoldedFitter
+
+
+def prepare(scene: str | Path | SceneSpec, recordings: str | Path | pd.DataFrame | list[Episode],
+            effects: tuple[str, ...], config: GapConfig) -> Problem:
+    """Load and check inputs, estimate noise and the velocity-fit width, split the episodes."""
+    names = [EFFECTS.resolve(n) for n in effects]  # fail fast on typos
+    spec, eps = _load(scene, recordings)
+    try:
+        split = split_episodes(len(eps))
+    except ValueError as exc:
+        raise DataError(f"recordings {recordings if not isinstance(recordings, list) else '<list>'}: {exc}") from exc
+    sub = config.substep or (5e-4 if spec.joints else 1e-3)
+    loc = make_windows(eps, list(range(len(eps))), config.locate_window)
+    half = choose_half(spec, eps, loc, sub)
+    sigma, phi = noise_model(eps)
+    return Problem(spec, eps, sigma, phi, sub, half, _bad_starts(spec, eps, half), split,
+                   _candidates(names, spec), Shooter(spec, eps, sub, half))
+
+
+def locate_step(p: Problem, config: GapConfig, rng: np.random.Generator) -> Location:
+    """Window z-scores of the data against a clean replicate's; located stretches."""
+    windows = make_windows(p.episodes, list(range(len(p.episodes))), config.locate_window, bad_start=p.bad)
+    null_eps = null_like(p.scene, p.episodes, p.sigma, rng, p.substep, p.phi)
+    z_null = window_z(Shooter(p.scene, null_eps, p.substep, p.half), windows, p.sigma).max(axis=(1, 2))  # (W,)
+    z_thr = float(max(config.z_min, np.quantile(z_null, 0.95)))
+    z_strong = float(max(config.z_min, np.max(z_null)))
+    z = window_z(p.shooter, windows, p.sigma)
+    located = [x.to_dict() for x in locate(p.shooter, windows, z, z_thr)]
+    return Location(windows, located, z_thr, z_strong, null_eps)
+
+
+def search_step(p: Problem, loc: Location, config: GapConfig, max_effects: int, seed: int, n_jobs: int = 1,
+                progress: Callable[[str], None] | None = None) -> Search:
+    """The greedy search on the data, each round judged against the same round on clean data."""
+    note = progress or (lambda s: None)
+    data = _folded(p, p.shooter, p.episodes, config, seed)
+    null_shooter = Shooter(p.scene, loc.null_episodes, p.substep, p.half)
+    null = NullSearch(_folded(p, null_shooter, loc.null_episodes, config, seed), p.candidates, config.null_alpha,
+                      config.min_gain, seed, lambda k: note(f"null: {k}"), n_jobs)
+    contexts = {x["context"] for x in loc.located} or _all_labels(p.scene, p.episodes)
+    noise = float(np.median(p.sigma[:, :2]))
+    res = greedy(data, p.candidates, null.threshold, max_effects, contexts, noise, lambda k: note(f"fit: {k}"),
+                 config.gain_lower_q, n_jobs)
+    return Search(res, null.result(), data)
+
+
+def context_for(scene: SceneSpec, episodes: list[Episode]) -> FitContext:
+    """Bounds, scales and regression starts from ``episodes`` (the fitting episodes only)."""
+    pos = np.concatenate([e.pose[:, :, :2].reshape(-1, 2) for e in episodes])
+    vel = np.concatenate([np.diff(e.pose, axis=0).reshape(-1, 3) / np.median(np.diff(e.t)) for e in episodes])
+    return FitContext(scene, pos.min(axis=0), pos.max(axis=0),
+                      float(np.median(np.linalg.norm(vel[:, :2], axis=1))), float(np.median(np.abs(vel[:, 2]))),
+                      flight_samples(scene, episodes))
+
+
+def fit_windows(p: Problem, ids: tuple[int, ...], config: GapConfig) -> list[Window]:
+    """Back-to-back windows of episodes ``ids`` (bad starts moved on)."""
+    return make_windows(p.episodes, list(ids), config.fit_window, bad_start=p.bad)
+
+
+def _folded(p: Problem, shooter: Shooter, episodes: list[Episode], config: GapConfig, seed: int) -> FoldedFitter:
+    """One ``Fitter`` per fold on ``episodes`` (the data or its clean replicate: same windows).
+
+    The same seed draws the same window subsample for the data and the null.
+    """
+    rng = np.random.default_rng(seed)
+    w = config.fit_window
+    folds = p.split.folds or ((p.split.fit, p.split.select),)
+    out = []
+    for fit_ids, sel_ids in folds:
+        train = _subsample(make_windows(episodes, list(fit_ids), w, bad_start=p.bad), config.fit_budget, w, rng)
+        sel = _subsample(make_windows(episodes, list(sel_ids), w, stride=w / 2, bad_start=p.bad),
+                         config.test_budget / len(folds), w, rng)
+        pool = make_windows(episodes, list(fit_ids), w, stride=w / 2, bad_start=p.bad)
+        ctx = context_for(p.scene, [episodes[i] for i in fit_ids])
+        out.append(Fitter(shooter, p.sigma, train, sel, ctx, config.fit, pool=pool))
+    return FoldedFitter(out)
+
+
+def _load(scene: str | Path | SceneSpec, recordings: str | Path | pd.DataFrame | list[Episode]) -> tuple[SceneSpec, list[Episode]]:
+    if isinstance(scene, SceneSpec):
+        spec, joints = scene, None
+    else:
+        spec, joints, _ = load_scene(scene)
+    if isinstance(recordings, list):
+        eps = recordings
+        for e in eps:  # in-memory episodes skip the file checks; a wild value must still stop here
+            bad = ~np.isfinite(e.pose) | (np.abs(e.pose) > 1e6)
+            if bad.any() or not np.all(np.isfinite(e.t)):
+                k = int(np.argwhere(bad)[0][0]) if bad.any() else 0
+                raise DataError(f"episode {e.id}: non-finite or impossibly large pose at sample {k}")
+    elif isinstance(recordings, pd.DataFrame):
+        eps = load_recordings("<dataframe>", spec, recordings)
+    else:
+        eps = load_recordings(recordings, spec)
+    if joints:
+        spec = resolve_joints(spec, joints, eps[0].pose[0])
+    return spec, eps
+
+
+def _bad_starts(scene: SceneSpec, episodes: list[Episode], half: int) -> dict[int, np.ndarray]:
+    """Samples within the velocity-fit span of an impact (with a static or between bodies), or
+    before the first full span, per episode index."""
+    out = {}
+    for i, e in enumerate(episodes):
+        impact = (frame_labels(scene, e) == "impact").any(axis=1) | near_contact(scene, e)  # (T,)
+        bad = np.convolve(impact.astype(float), np.ones(2 * half + 3), mode="same") > 0
+        bad[:half] = True  # a one-sided velocity fit at the episode start is several times noisier
+        out[i] = bad
+    return out
+
+
+def _all_labels(scene: SceneSpec, episodes: list[Episode]) -> set[str]:
+    return {str(v) for e in episodes for v in np.unique(frame_labels(scene, e).astype(str))}
+
+
+def _candidates(names: list[str], scene: SceneSpec) -> dict[str, Effect]:
+    out: dict[str, Effect] = {}
+    for name in names:
+        cls = EFFECTS.get(name)
+        if name == "none" or not cls().applies(scene):
+            continue
+        if getattr(cls, "per_body", False) and len(scene.bodies) > 1:
+            for b in scene.names:
+                out[f"{name}[{b}]"] = cls(bodies=(b,))
+        else:
+            out[name] = cls()
+    return out
+
+
+def _subsample(windows: list[Window], budget: float, length: float, rng: np.random.Generator) -> list[Window]:
+    k = max(1, int(budget // length))
+    if len(windows) <= k:
+        return windows
+    idx = np.sort(rng.choice(len(windows), size=k, replace=False))
+    return [windows[i] for i in idx]

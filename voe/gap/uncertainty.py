@@ -1,0 +1,110 @@
+"""95 % intervals of fitted parameters: a bootstrap over fitting windows, linearised.
+
+Why: a point value (``b = 0.000182``) says nothing about whether the effect is there at all. The
+fit's cost is a sum over windows, so resampling windows with replacement is the natural
+bootstrap (windows, not samples: residuals within a window are correlated through the
+estimated initial state). Refitting through the simulator for every resample would cost hundreds
+of fits, so each resample takes one Gauss-Newton step from the fitted parameters instead, using
+per-window gradients and curvatures computed once (one extra rollout per window and parameter,
+finite differences, soft-L1 weights at the fit). A parameter that moves no window's prediction
+gets the whole bounded range: no information is not certainty. An interval containing the
+effect's nominal value (zero strength, the scene's own coefficient) means the effect is not
+established, and the finder does not report it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from voe.gap.effects.base import Effect, FitContext
+from voe.gap.shooting import Shooter, Window
+
+N_BOOT = 400
+LEVEL = 0.95
+
+
+def intervals(shooter: Shooter, sigma: np.ndarray, windows: list[Window], effect: Effect, params: np.ndarray,
+              ctx: FitContext, f_scale: float = 3.0, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    """(P,) lower and upper ends of the 95 % bootstrap interval of ``params``.
+
+    Each part of a sum is bounded with the other parts held at their fitted values. Why: two
+    parts can trade off (a mass scale and an absolute damping torque set the same ratio), and a
+    joint interval along that ridge would include zero for both although the pair is needed;
+    whether each part is needed at all is what the refit without it decides
+    (``voe.gap.check``).
+    """
+    lo_b, hi_b = effect.bounds(ctx)
+    scale = effect.scale(ctx)
+    n_p = len(params)
+    h_list, g_list = [], []
+    for w in windows:
+        wt = 1.0 / shooter.sigma_pred(w, sigma)  # (n, B, 3)
+        r0 = (shooter.residual(w, effect, params) * wt).reshape(-1)
+        if not np.all(np.isfinite(r0)):
+            continue
+        jac = np.zeros((r0.size, n_p))
+        for j in range(n_p):
+            step = 0.1 * scale[j]
+            up = params[j] + step <= hi_b[j]
+            p = params.copy()
+            p[j] += step if up else -step
+            rj = (shooter.residual(w, effect, p) * wt).reshape(-1)
+            jac[:, j] = (rj - r0) / (step if up else -step)
+        irls = 1.0 / np.sqrt(1.0 + (r0 / f_scale) ** 2)  # soft-L1 weights at the fit
+        jw = jac * irls[:, None]
+        h_list.append(jw.T @ jac)
+        g_list.append(jw.T @ r0)
+    if not h_list:
+        return lo_b.astype(float), hi_b.astype(float)
+    hs, gs = np.stack(h_list), np.stack(g_list)  # (W, P, P), (W, P)
+    info = np.diag(hs.sum(axis=0)) * scale**2  # cost curvature per scale step, summed over windows
+    blind = info < 1.0
+    rng = np.random.default_rng(seed)
+    idx = rng.integers(0, len(hs), size=(N_BOOT, len(hs)))
+    ridge = 1e-9 * np.diag(1.0 / scale**2)
+    draws = np.tile(params, (N_BOOT, 1)).astype(float)  # (N, P)
+    i = 0
+    for e in effect.parts:
+        sl = slice(i, i + e.n_params)
+        i += e.n_params
+        for n, row in enumerate(idx):
+            h, g = hs[row].sum(axis=0) + ridge, gs[row].sum(axis=0)
+            try:
+                draws[n, sl] = _step(params[sl], h[sl, sl], g[sl], lo_b[sl], hi_b[sl])
+            except np.linalg.LinAlgError:
+                draws[n, sl] = np.nan
+    th = np.clip(draws, lo_b, hi_b)  # (N, P)
+    if np.isnan(th).all():
+        return lo_b.astype(float), hi_b.astype(float)
+    a = (1 - LEVEL) / 2
+    lo, hi = np.nanquantile(th, a, axis=0), np.nanquantile(th, 1 - a, axis=0)
+    lo = np.minimum(lo, params)
+    hi = np.maximum(hi, params)
+    return np.where(blind, lo_b, lo), np.where(blind, hi_b, hi)
+
+
+def _step(params: np.ndarray, h: np.ndarray, g: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """Gauss-Newton step from ``params``; a parameter that would cross a bound is held at it and
+    the others re-solved (one active-set pass), so a bounded parameter does not drag the rest."""
+    th = params - np.linalg.solve(h, g)
+    out = (th < lo) | (th > hi)
+    if out.any() and not out.all():
+        fixed = np.clip(th, lo, hi)
+        d_b = fixed[out] - params[out]
+        free = ~out
+        d_f = np.linalg.solve(h[np.ix_(free, free)], -(g[free] + h[np.ix_(free, out)] @ d_b))
+        th = fixed.copy()
+        th[free] = params[free] + d_f
+    return np.clip(th, lo, hi)
+
+
+def established(effect: Effect, lo: np.ndarray, hi: np.ndarray, ctx: FitContext) -> list[bool]:
+    """Per part of ``effect``: is some parameter with a nominal value outside its interval?"""
+    out, i = [], 0
+    for e in effect.parts:
+        a, b = lo[i:i + e.n_params], hi[i:i + e.n_params]
+        i += e.n_params
+        nom = e.nominal(ctx)
+        has = np.isfinite(nom)
+        out.append(bool(np.any(has & ((nom < a) | (nom > b)))))
+    return out
