@@ -127,3 +127,20 @@ def test_located_mismatch_no_effect_explains_is_unexplained():
     assert "agree" not in f.explanation_ and "No effect in the library explains it" in f.explanation_
     assert "episode" in f.explanation_ and " t = " in f.explanation_ and " x " in f.explanation_
     assert f.to_dict()["episodes"]["scheme"] == "three-way"
+
+
+def test_tie_break_uses_windows_where_predictions_differ():
+    from voe.gap.fit import Fitter
+    from voe.gap.folds import FoldedFitter
+    from voe.gap.search import tie_break
+
+    scene, eps = flight_episodes("linear_drag", [0.3], n=4, duration=1.5, seed=11)
+    sigma = noise_model(eps)[0]
+    sh = Shooter(scene, eps, 1e-3, 8)
+    fitter = FoldedFitter([Fitter(sh, sigma, make_windows(eps, [0, 1], 1.0), make_windows(eps, [2, 3], 1.0, stride=0.5),
+                                  context_for(scene, eps[:2]))])
+    cands = {k: EFFECTS.get(k)() for k in ("linear_drag", "quadratic_drag")}
+    results = {k: fitter.fit_candidate(None, e) for k, e in cands.items()}
+    gains = {"linear_drag": 0.5, "quadratic_drag": 0.52}  # pretend the wrong one is ahead by a hair
+    best, group, basis = tie_break(fitter, list(cands), results, cands, {"flight"}, gains, float(sigma[0, 0]))
+    assert best == "linear_drag" and "predictions differ" in basis
