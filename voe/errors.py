@@ -9,16 +9,23 @@ from __future__ import annotations
 
 
 class VoeError(Exception):
-    """Base class. ``exit_code`` is what the CLI exits with."""
+    """Base class. ``exit_code`` is what the CLI exits with.
+
+    The message is always one line: a wrapped library message (pyarrow's spans several) has its
+    line breaks folded, so the CLI never prints more than ``voe: error: ...``.
+    """
 
     exit_code = 1
+
+    def __str__(self) -> str:
+        return " ".join(super().__str__().split())
 
 
 class UnknownNameError(VoeError, KeyError):
     """A registry lookup failed; the message carries did-you-mean suggestions."""
 
     def __str__(self) -> str:  # KeyError would otherwise quote the message
-        return str(self.args[0]) if self.args else ""
+        return " ".join(str(self.args[0]).split()) if self.args else ""
 
 
 class ProbeSetError(VoeError):

@@ -127,3 +127,40 @@ def test_located_mismatch_no_effect_explains_is_unexplained():
     assert "agree" not in f.explanation_ and "No effect in the library explains it" in f.explanation_
     assert "episode" in f.explanation_ and " t = " in f.explanation_ and " x " in f.explanation_
     assert f.to_dict()["episodes"]["scheme"] == "three-way"
+
+
+def test_tie_break_uses_windows_where_predictions_differ():
+    from voe.gap.fit import Fitter
+    from voe.gap.folds import FoldedFitter
+    from voe.gap.search import tie_break
+
+    scene, eps = flight_episodes("linear_drag", [0.3], n=4, duration=1.5, seed=11)
+    sigma = noise_model(eps)[0]
+    sh = Shooter(scene, eps, 1e-3, 8)
+    fitter = FoldedFitter([Fitter(sh, sigma, make_windows(eps, [0, 1], 1.0), make_windows(eps, [2, 3], 1.0, stride=0.5),
+                                  context_for(scene, eps[:2]))])
+    cands = {k: EFFECTS.get(k)() for k in ("linear_drag", "quadratic_drag")}
+    results = {k: fitter.fit_candidate(None, e) for k, e in cands.items()}
+    gains = {"linear_drag": 0.5, "quadratic_drag": 0.52}  # pretend the wrong one is ahead by a hair
+    best, group, basis = tie_break(fitter, list(cands), results, cands, {"flight"}, gains, float(sigma[0, 0]))
+    assert best == "linear_drag" and "predictions differ" in basis
+
+
+def test_null_runs_the_same_rounds_forcing_in_its_best_candidate():
+    from voe.gap.fit import FitConfig, Fitter
+    from voe.gap.folds import FoldedFitter
+    from voe.gap.null import NullSearch
+
+    scene, eps = flight_episodes(n=4, duration=1.0, seed=12)
+    sigma = noise_model(eps)[0]
+    sh = Shooter(scene, eps, 1e-3, 8)
+    fitter = FoldedFitter([Fitter(sh, sigma, make_windows(eps, [0, 1], 0.5), make_windows(eps, [2, 3], 0.5),
+                                  context_for(scene, eps[:2]), FitConfig(max_nfev=4, refine_nfev=4))])
+    cands = {k: EFFECTS.get(k)() for k in ("linear_drag", "quadratic_drag")}
+    null = NullSearch(fitter, cands, alpha=0.05, min_gain=0.05, seed=0)
+    t1 = null.threshold(1)  # computes rounds 0 and 1
+    r = null.result()
+    assert len(r) == 2 and r[0].forced in cands and r[1].forced != r[0].forced
+    assert set(r[1].gains) == set(cands) - {r[0].forced}  # round 2 fits what is left on top of round 1's
+    assert t1 >= 0.05 and r[0].threshold >= max(g for g in r[0].gains.values())
+    assert null.threshold(0) == r[0].threshold and len(null.result()) == 2  # no recomputation

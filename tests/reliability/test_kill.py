@@ -17,6 +17,8 @@ from pathlib import Path
 
 import pytest
 
+from voe.scoring.runs import load_run
+
 from ..gap.conftest import BALL, flight_episodes, to_table
 from .cli import env, run_voe
 
@@ -86,7 +88,9 @@ def test_score(tiny_probes, tmp_path):
     proc = run_voe("score", "--probes", tiny_probes, "--model", model, "--batch-size", "2", "--out", out,
                    XDG_CACHE_HOME=str(tmp_path / "cache"))
     assert proc.returncode == 0, proc.stderr
-    assert json.loads((out / "run.json").read_text())["probes"]["n_clips"] == 48
+    from voe.io.probeset import load_probe_set
+
+    assert len(load_run(out).clips) == len(load_probe_set(tiny_probes))
 
 
 def test_gap(tmp_path):
@@ -104,7 +108,7 @@ def test_gap(tmp_path):
 
 def test_validate_suite_scratch_in_the_user_cache(tmp_path):
     out, cache = tmp_path / "v", tmp_path / "cache"
-    args = ["validate-suite", "--out", out, "--per-concept", "2", "--world-n", "10", "--family", "frame-only"]
+    args = ["validate-suite", "--out", out, "--per-concept", "2", "--world-n", "10", "--family", "knowledge-free"]
     run = interrupt(args, tmp_path, signal.SIGTERM, "probe sets", delay=0.3, XDG_CACHE_HOME=str(cache))
     scratch = cache / "voe" / "validity-2x10-seed0"
     assert f"scratch directory (reused on rerun): {scratch}" in run.stdout
@@ -114,6 +118,9 @@ def test_validate_suite_scratch_in_the_user_cache(tmp_path):
     assert proc.returncode == 0, proc.stderr
     assert (out / "matrix.csv").exists() and (scratch / "probes" / "manifest.json").exists()
     assert not (tmp_path / "voe-work").exists()
+    prov = json.loads((out / "provenance.json").read_text())      # portable: no absolute path
+    assert prov["probes"] == "../cache/voe/validity-2x10-seed0/probes" and len(prov["probes_manifest_sha256"]) == 64
+    assert str(tmp_path) not in (out / "validity.md").read_text() + (out / "provenance.json").read_text()
 
 
 @pytest.mark.slow

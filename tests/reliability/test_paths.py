@@ -59,8 +59,9 @@ def test_etc_hostname_entry_is_refused(tiny_probes, tmp_path):
 def test_symlinked_array_leading_outside_is_refused(tiny_probes, tmp_path):
     ps_dir = _copy(tiny_probes, tmp_path)
     outside = tmp_path / "frames-elsewhere.npy"
-    shutil.move(ps_dir / "shards/00000/frames.npy", outside)
-    (ps_dir / "shards/00000/frames.npy").symlink_to(outside)
+    frames = next(ps_dir.rglob("frames.npy"))
+    shutil.move(frames, outside)
+    frames.symlink_to(outside)
     with pytest.raises(ProbeSetError, match="frames.npy' leads outside"):
         load_probe_set(ps_dir)
     assert_one_line_error(run_voe("probes", "validate", ps_dir), "frames.npy", "leads outside")

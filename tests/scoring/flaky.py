@@ -23,3 +23,17 @@ class FlakyModel(RandomModel):
             with open(self.count, "a") as fh:
                 fh.write(f"{len(batch)}\n")
         return super().frame_nll(batch)
+
+
+class SlowModel(RandomModel):
+    """``RandomModel`` that takes ``delay`` seconds per batch, to be killed partway."""
+
+    def __init__(self, delay: float = 0.2) -> None:
+        super().__init__(0)
+        self.delay = float(delay)
+
+    def frame_nll(self, batch):
+        import time
+
+        time.sleep(self.delay)
+        return super().frame_nll(batch)

@@ -59,11 +59,12 @@ def test_batch_is_blind_with_crn_seeds(synth_probes):
     assert blinder.describe(batch.clip_ids[2]) == f"{batch.clip_ids[2]} (clip {ids[2]})"
 
 
+@pytest.mark.parametrize("n", [2, 6])
 @pytest.mark.parametrize("cls, check", CHEATERS)
-def test_check_model_rejects_cheaters_by_name(cls, check, synth_probes):
+def test_check_model_rejects_cheaters_by_name(cls, check, n, synth_probes):
     ps = load_probe_set(synth_probes)
     blinder = Blinder(ps)
-    batch = blinder.batch(blinder.sample(plan(ps.index, 6), 6))
+    batch = blinder.batch(blinder.sample(plan(ps.index, n), n))
     with pytest.raises(ModelContractError, match=f"failed the {check} check") as err:
         check_model(cls(), batch)
     assert f"'{cls().name}'" in str(err.value) and "\n" not in str(err.value)
@@ -98,18 +99,26 @@ def test_crn_makes_a_pure_noise_scorer_tie(synth_probes, tmp_path):
     assert (t["accuracy"] == 0.5).all() and (t["ci_low"] == 0.5).all()  # same noise for a set's clips
 
 
+def _voe(*argv: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "voe", *argv], capture_output=True, text=True)
+
+
 @pytest.mark.parametrize("cls, check", CHEATERS)
-def test_cli_model_check_and_score_reject_cheaters(cls, check, synth_probes, tmp_path):
-    ref = f"voe.testing:{cls.__name__}"
-    for argv in (["model", "check", ref, "--data", str(synth_probes)],
-                 ["score", "--probes", str(synth_probes), "--model", ref, "--out", str(tmp_path / "r"),
-                  "--no-cache"]):
-        res = subprocess.run([sys.executable, "-m", "voe", *argv], capture_output=True, text=True)
-        lines = res.stderr.strip().splitlines()
-        assert res.returncode == 2 and len(lines) == 1, res.stderr
-        assert f"failed the {check} check" in lines[0] and lines[0].startswith("voe: error: model")
+def test_cli_model_check_rejects_cheaters(cls, check, synth_probes):
+    res = _voe("model", "check", f"voe.testing:{cls.__name__}", "--data", str(synth_probes))
+    lines = res.stderr.strip().splitlines()
+    assert res.returncode == 2 and len(lines) == 1, res.stderr
+    assert lines[0].startswith(f"voe: error: model '{cls().name}' failed the {check} check")
+
+
+def test_cli_score_checks_first_unless_told_not_to(synth_probes, tmp_path):
+    argv = ("score", "--probes", str(synth_probes), "--model", "voe.testing:IdReaderModel", "--out",
+            str(tmp_path / "r"), "--no-cache")
+    res = _voe(*argv)
+    lines = res.stderr.strip().splitlines()
+    assert res.returncode == 2 and len(lines) == 1, res.stderr
+    assert lines[0].startswith("voe: error: model 'id-reader' failed the identifiers check")
     assert not (tmp_path / "r").exists()
-    res = subprocess.run([sys.executable, "-m", "voe", "score", "--probes", str(synth_probes), "--model", ref,
-                          "--out", str(tmp_path / "r"), "--no-check", "--no-cache"], capture_output=True, text=True)
+    res = _voe(*argv, "--no-check")
     assert res.returncode == 0, res.stderr
     assert load_run(tmp_path / "r").meta["check"] == "skipped"

@@ -88,3 +88,85 @@ def test_unreadable_files_on_the_cli(name, data, needle, synth_probes, tmp_path)
     lines = res.stderr.strip().splitlines()
     assert res.returncode == 1 and len(lines) == 1, res.stderr
     assert lines[0].startswith("voe: error: surprise table") and name in lines[0] and needle in lines[0]
+
+
+def test_surprise_options_need_a_table(synth_probes, tmp_path):
+    res = subprocess.run([sys.executable, "-m", "voe", "score", "--probes", str(synth_probes), "--model",
+                          "voe.testing:BlindModel", "--surprise-kind", "error", "--out", str(tmp_path / "r")],
+                         capture_output=True, text=True)
+    assert res.returncode == 1 and "--surprise-kind and --name go with --surprises" in res.stderr
+
+
+def test_fuzzed_tables_give_only_one_line_errors(synth_probes, tmp_path):
+    """Any table (types, NaN, huge and negative values, unicode, empty, damaged bytes): a run or a
+    one-line VoeError naming the file, never another exception."""
+    from hypothesis import HealthCheck, given, settings
+    from hypothesis import strategies as st
+
+    from voe.scoring.external import read_table, table_to_nll
+
+    ps = load_probe_set(synth_probes)
+    keys = [clip_key(ps.manifest_sha256, c) for c in ps.index.sort_values("row")["clip_id"]]
+    cell = st.one_of(st.sampled_from(keys), st.text(max_size=20), st.integers(-2**70, 2**70),
+                     st.floats(allow_nan=True, allow_infinity=True), st.booleans(), st.none(),
+                     st.complex_numbers(allow_nan=True))
+    column = st.lists(cell, min_size=0, max_size=6)
+    names = st.sampled_from(["clip_key", "frame", "surprise", "extra", "é"])
+
+    @settings(max_examples=200, deadline=None, suppress_health_check=list(HealthCheck))
+    @given(cols=st.dictionaries(names, column, max_size=4), fmt=st.sampled_from(["csv", "parquet"]),
+           junk=st.binary(max_size=64), damage=st.booleans())
+    def check(cols, fmt, junk, damage):
+        n = max((len(v) for v in cols.values()), default=0)
+        df = pd.DataFrame({k: (v + [None] * n)[:n] for k, v in cols.items()})
+        path = tmp_path / f"t.{fmt}"
+        try:
+            df.to_parquet(path) if fmt == "parquet" else df.to_csv(path, index=False)
+        except Exception:  # pyarrow cannot store every mix of Python objects; write junk instead
+            damage = True
+        if damage:
+            path.write_bytes(junk)
+        try:
+            table_to_nll(path, read_table(path), keys, 24)
+        except VoeError as exc:
+            assert str(path) in str(exc) and "\n" not in str(exc)
+
+    check()
+
+
+def test_scoring_a_table_never_imports_torch(table, synth_probes, tmp_path):
+    table.to_parquet(tmp_path / "s.parquet")
+    code = (f"import sys; from voe.cli.main import main; sys.argv = ['voe', 'score', '--probes', "
+            f"{str(synth_probes)!r}, '--surprises', {str(tmp_path / 's.parquet')!r}, '--out', "
+            f"{str(tmp_path / 'run')!r}]\ntry:\n    main()\nexcept SystemExit:\n    pass\n"
+            "assert not [m for m in sys.modules if m.split('.')[0] == 'torch'], 'torch imported'")
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert res.returncode == 0 and (tmp_path / "run" / "run.json").is_file(), res.stderr
+
+
+def test_export_then_outside_tool_then_score(tiny_probes, tmp_path):
+    """The round trip a user makes: export png clips, score them with an outside tool that sees only
+    the export (metadata.parquet and files), score its table, report ranks like any run."""
+    from PIL import Image
+
+    from voe.io.export import export_probe_set
+
+    export_probe_set(tiny_probes, tmp_path / "ex", fmt="png", size=32)
+    meta = pd.read_parquet(tmp_path / "ex" / "metadata.parquet")
+    rows = []
+    for key, rel in zip(meta["clip_key"], meta["path"], strict=True):  # the "outside tool"
+        files = sorted((tmp_path / "ex" / rel).rglob("*.png"))
+        frames = np.stack([np.asarray(Image.open(f), dtype=np.float64) for f in files])  # (T, H, W[, 3])
+        change = np.abs(np.diff(frames, axis=0)).mean(axis=tuple(range(1, frames.ndim)))  # (T-1,)
+        rows += [{"clip_key": key, "frame": t + 1, "surprise": float(c)} for t, c in enumerate(change)]
+    pd.DataFrame(rows).to_csv(tmp_path / "s.csv", index=False)
+    res = subprocess.run([sys.executable, "-m", "voe", "score", "--probes", str(tiny_probes), "--surprises",
+                          str(tmp_path / "s.csv"), "--surprise-kind", "error", "--name", "motion",
+                          "--out", str(tmp_path / "run")], capture_output=True, text=True)
+    assert res.returncode == 0, res.stderr
+    run = load_run(tmp_path / "run")
+    ps = load_probe_set(tiny_probes)
+    assert run.surprise_kind == "error" and run.label == "motion" and len(run.clips) == len(ps)
+    assert np.isnan(run.nll[:, 0]).all() and not np.isnan(run.nll[:, 1:]).any()
+    t = concept_table([run], n_boot=200)
+    assert len(t) == ps.index["concept"].nunique() and t["accuracy"].between(0, 1).all()

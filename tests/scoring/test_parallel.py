@@ -48,6 +48,7 @@ def single(synth_probes, tmp_path_factory) -> Path:
 
 
 def test_two_gloo_ranks_are_byte_identical_to_one_process(single, synth_probes, tmp_path):
+    pytest.importorskip("torch.distributed")
     res = _voe("--standalone", "--nproc_per_node", "2", "-m", "voe", "score", "--probes", str(synth_probes),
                "--model", MODEL, "--batch-size", "3", "--out", str(tmp_path / "run"), tmp=tmp_path,
                runner=("-m", "torch.distributed.run"))
@@ -60,6 +61,7 @@ def test_two_gloo_ranks_are_byte_identical_to_one_process(single, synth_probes, 
 
 @pytest.mark.slow  # the same launch as above, through `voe score --launcher torchrun`
 def test_launcher_option_execs_torchrun(single, synth_probes, tmp_path):
+    pytest.importorskip("torch.distributed")
     res = _voe("score", "--probes", str(synth_probes), "--model", MODEL, "--batch-size", "3", "--out",
                str(tmp_path / "run"), "--launcher", "torchrun", "--nproc", "2", tmp=tmp_path)
     assert res.returncode == 0, res.stderr
@@ -119,6 +121,31 @@ def test_failing_model_is_named_and_the_rerun_resumes(single, synth_probes, tmp_
     assert meta["clips_from_cache"] == before - n_check and again - n_check == 36 - meta["clips_from_cache"] > 0
     for f in ("frames.parquet", "clips.parquet"):  # the same numbers as an uninterrupted run
         assert (tmp_path / "run" / f).read_bytes() == (single / f).read_bytes()
+
+
+def test_killed_run_resumes_with_the_same_bytes(single, synth_probes, tmp_path):
+    """SIGKILL partway (no clean-up at all), rerun: fewer clips computed, the same files."""
+    import signal
+    import time
+
+    argv = ["score", "--probes", str(synth_probes), "--model", "tests.scoring.flaky:SlowModel", "--batch-size",
+            "3", "--out", str(tmp_path / "run"), "--model-arg", "delay=0.1", "--cache", str(tmp_path / "c")]
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    p = subprocess.Popen([sys.executable, "-m", "voe", *argv], cwd=ROOT, env=env, stderr=subprocess.DEVNULL)
+    t0 = time.monotonic()
+    while len(list(tmp_path.glob("c/*/batch-*.npz"))) < 4:
+        assert p.poll() is None and time.monotonic() - t0 < 60
+        time.sleep(0.05)
+    p.send_signal(signal.SIGKILL)
+    p.wait()
+    assert not (tmp_path / "run").exists()
+    res = _voe(*argv, tmp=tmp_path)
+    assert res.returncode == 0, res.stderr
+    meta = json.loads((tmp_path / "run" / "run.json").read_text())
+    assert 12 <= meta["clips_from_cache"] < 36
+    for f in ("frames.parquet", "clips.parquet"):
+        assert (tmp_path / "run" / f).read_bytes() == (single / f).read_bytes()
+    assert not list(tmp_path.glob("c/*/batch-*"))  # entry removed once the run is written
 
 
 def test_python_api_failure_without_cache_says_so(synth_probes, tmp_path):

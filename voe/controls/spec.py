@@ -109,6 +109,8 @@ def load_user_controls(path: Path) -> list[Control]:
         doc = yaml.safe_load(path.read_text())
     except yaml.YAMLError as exc:
         raise VoeError(f"{path} is not valid YAML: {str(exc).splitlines()[0]}") from exc
+    except (UnicodeDecodeError, OSError) as exc:
+        raise VoeError(f"{path} cannot be read as UTF-8 YAML text: {exc}") from exc
     entries = (doc or {}).get("controls") if isinstance(doc, dict) else None
     if not isinstance(entries, list) or not entries:
         raise VoeError(f"{path}: expected a non-empty list under 'controls'")

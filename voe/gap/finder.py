@@ -9,6 +9,7 @@ returns a frozen result; the ``*_`` attributes are read from those results.
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
@@ -86,8 +87,11 @@ class GapFinder:
 
     @property
     def groups_(self) -> list[list[str]]:
+        return [list(r.group) for r in self._kept_rounds()]
+
+    def _kept_rounds(self) -> list:
         kept = set(self.checked_.keys)
-        return [g for g in self.search_.result.groups if g and g[0] in kept]
+        return [r for r in self.search_.result.rounds if r.winner and r.winner in kept]
 
     @property
     def threshold_(self) -> float:
@@ -138,7 +142,7 @@ class GapFinder:
         best = max(r0.gains.items(), key=lambda kv: kv[1]) if r0 and r0.gains else None
         return explain(self.verdict_, self.effects_, self.groups_, self.located_, self.checked_.verification,
                        self.threshold_, self.problem_.sigma, self.checked_.test_note, self.z_strong_,
-                       self.checked_.dropped, best)
+                       self.checked_.dropped, best, [r.basis for r in self._kept_rounds()])
 
     def to_dict(self) -> dict:
         """The diagnosis as plain JSON-ready data (without provenance)."""
@@ -146,6 +150,7 @@ class GapFinder:
                 "explanation": self.explanation_, "groups": self.groups_,
                 "episodes": self.problem_.split.roles(self.episodes_),
                 "dropped": list(self.checked_.dropped),
+                "outliers": [asdict(o) for e in self.episodes_ for o in e.outliers],  # kept when loaded with "flag"
                 "null": {"z_threshold": self.z_threshold_, "z_max": self.z_strong_, "alpha": self.config.null_alpha,
                          "rounds": [r.to_dict() for r in self.search_.null]},
                 "rounds": [r.to_dict() for r in self.rounds_],

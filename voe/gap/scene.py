@@ -37,6 +37,8 @@ def load_scene(path: str | Path) -> tuple[SceneSpec, list[dict[str, Any]], dict[
         raise DataError(f"scene file not found: {path}") from exc
     except json.JSONDecodeError as exc:
         raise DataError(f"scene file {path} is not valid JSON: {exc.msg} at line {exc.lineno}") from exc
+    except (UnicodeDecodeError, OSError) as exc:
+        raise DataError(f"scene file {path} cannot be read as UTF-8 JSON text: {exc}") from exc
     if not isinstance(raw, dict):
         raise DataError(f"scene file {path} must hold a JSON object")
     gravity = _vec(raw.get("gravity", [0.0, -9.81]), "gravity", path)
@@ -50,6 +52,8 @@ def load_scene(path: str | Path) -> tuple[SceneSpec, list[dict[str, Any]], dict[
     statics = tuple(_static(s, i, path) for i, s in enumerate(raw.get("statics", []) or []))
     joints = list(raw.get("joints", []) or [])
     for i, j in enumerate(joints):
+        if not isinstance(j, dict):
+            raise DataError(f"scene file {path}: joint {i} must be an object, got {j!r:.60}")
         if j.get("type", "pivot") != "pivot":
             raise DataError(f"scene file {path}: joint {i} has type {j.get('type')!r}; only 'pivot' is supported")
         if j.get("a") not in names or (j.get("b") is not None and j.get("b") not in names):

@@ -69,7 +69,7 @@ def _value(v: float, lo: float, hi: float) -> str:
 
 def explain(verdict: str, effects: list[dict], groups: list[list[str]], located: list[dict], ver: Verification,
             threshold: float, sigma: np.ndarray, test_note: str, z_strong: float, dropped: tuple[dict, ...] = (),
-            best: tuple[str, float] | None = None) -> str:
+            best: tuple[str, float] | None = None, bases: list[str] | None = None) -> str:
     """A short paragraph with the numbers that matter; it never claims agreement next to a mismatch."""
     noise_mm = 1e3 * float(np.median(sigma[:, :2]))
     tail = "".join(f" {d['effect']} was dropped: {d['reason']}." for d in dropped)
@@ -100,8 +100,11 @@ def explain(verdict: str, effects: list[dict], groups: list[list[str]], located:
     if located:
         ctxs = sorted({x["context"].split()[0] for x in located})
         text += f" The mismatch was located in {len(located)} stretch(es), context: {', '.join(ctxs)}."
-    for g in groups:
-        if len(g) > 1:
+    for g, basis in zip(groups, bases or [""] * len(groups), strict=True):
+        if len(g) > 1 and basis.startswith("chosen on"):
+            text += (f" {' and '.join(g)} fit the selection windows within 10 % of each other; {g[0]} fits best on "
+                     f"the windows where their predictions differ.")
+        elif len(g) > 1:
             text += f" The data cannot tell apart {' and '.join(g)} (selection errors within 10 %); {g[0]} is named first."
     text += (" The remaining residuals look like noise." if ver.looks_like_noise else
              f" {100 * ver.flagged_after:.0f} % of test windows still exceed the noise threshold.")

@@ -33,6 +33,7 @@ from voe.io.atomic import atomic_dir
 from voe.io.batch import Batch
 from voe.io.paths import inside
 from voe.io.provenance import sha256_bytes, sha256_file
+from voe.io.schema import check_index, check_manifest
 from voe.io.shards import ShardedArray, ShardWriter, check_shard_paths
 
 SCHEMA_VERSION = 2  # 2: sharded arrays; 1: one stacked array per name (read, never written)
@@ -134,6 +135,7 @@ class ProbeSet:
             raise ProbeSetError(f"{mpath}: 'files' must map file names to sha256")
         for name in files:  # every listed file stays inside the set, symlinks included
             inside(self.path, name, mpath, ProbeSetError)
+        check_manifest(self.manifest, mpath)
         ipath = inside(self.path, "index.parquet", mpath, ProbeSetError)
         try:
             self.index: pd.DataFrame = pd.read_parquet(ipath)
@@ -146,6 +148,7 @@ class ProbeSet:
             self._shards = [("", int(self.manifest.get("n_clips", len(self.index))))]
         else:
             self._shards = check_shard_paths(self.manifest.get("shards"), mpath)
+        check_index(self.index, ipath, sum(n for _, n in self._shards))
         self._arrays: dict[str, ShardedArray] = {}
         ids = self.index["clip_id"].to_numpy()
         self._rows = pd.Series(self.index["row"].to_numpy(), index=ids)
@@ -209,8 +212,17 @@ class ProbeSet:
             states=self.array("states").read(rows),
             present=self.array("present").read(rows),
             feature_names=self.feature_names, dt=self.dt,
-            geometry=tuple(json.loads(g) for g in geo), clip_ids=tuple(clip_ids),
+            geometry=tuple(self._geometry(g) for g in geo), clip_ids=tuple(clip_ids),
         )
+
+    def _geometry(self, text: str) -> dict[str, Any]:
+        try:
+            geo = json.loads(text)
+        except (json.JSONDecodeError, TypeError) as exc:
+            raise ProbeSetError(f"{self.path / 'index.parquet'}: geometry is not valid JSON ({exc})") from exc
+        if not isinstance(geo, dict):
+            raise ProbeSetError(f"{self.path / 'index.parquet'}: geometry must be a JSON object")
+        return geo
 
     def batches(self, clip_ids: Sequence[str], size: int = 64) -> Iterator[Batch]:
         """``batch`` over consecutive chunks of ``clip_ids``: a bounded amount in memory at once."""

@@ -98,7 +98,7 @@ class ShardedArray:
                       for rel, _ in shards]
         counts = np.array([n for _, n in shards], dtype=np.int64)
         self.offsets = np.concatenate([[0], np.cumsum(counts)])  # (S + 1,)
-        self._open: dict[int, tuple[int, tuple[int, ...], np.dtype]] = {}  # headers, not data
+        self._headers: dict[int, tuple[int, tuple[int, ...], np.dtype]] = {}  # headers, not data
         self.shape: tuple[int, ...] = ()
         self.dtype = np.dtype(np.uint8)
         _, shape, self.dtype = self._shard(0)
@@ -106,8 +106,8 @@ class ShardedArray:
 
     def _shard(self, s: int) -> tuple[int, tuple[int, ...], np.dtype]:
         """(data offset, shape, dtype) of shard ``s``'s file, from its ``.npy`` header."""
-        if s in self._open:
-            return self._open[s]
+        if s in self._headers:
+            return self._headers[s]
         path = self.paths[s]
         inside(self.set_dir, path.relative_to(self.set_dir), self.set_dir / "manifest.json", ProbeSetError)
         try:
@@ -116,7 +116,7 @@ class ShardedArray:
                 shape, fortran, dtype = (np.lib.format.read_array_header_1_0(fh) if version == (1, 0)
                                          else np.lib.format.read_array_header_2_0(fh))
                 offset = fh.tell()
-        except (OSError, ValueError) as exc:
+        except Exception as exc:  # a damaged header raises ValueError, SyntaxError, TokenError...
             raise ProbeSetError(f"{path} cannot be read: {exc}") from exc
         if fortran or dtype.hasobject:
             raise ProbeSetError(f"{path}: not a C-ordered plain array; regenerate the set")
@@ -127,8 +127,8 @@ class ShardedArray:
         if self.shape and (shape[1:] != self.shape[1:] or dtype != self.dtype):
             raise ProbeSetError(f"{path} is {dtype}{shape[1:]} per clip, the set's first shard is "
                                 f"{self.dtype}{self.shape[1:]}; the set is damaged, regenerate it")
-        self._open[s] = (offset, shape, dtype)
-        return self._open[s]
+        self._headers[s] = (offset, shape, dtype)
+        return self._headers[s]
 
     def _read_rows(self, s: int, local: np.ndarray, out: np.ndarray) -> None:
         """Read ascending rows ``local`` of shard ``s`` into ``out`` (len(local), ...), one read per

@@ -27,6 +27,7 @@ import pandas as pd
 
 from voe.errors import VoeError
 from voe.io.clipkey import clip_key
+from voe.io.paths import portable_ref
 from voe.io.probeset import ProbeSet, load_probe_set
 from voe.io.provenance import sha256_file
 from voe.scoring.store import SURPRISE_KINDS, write_run
@@ -58,12 +59,17 @@ def read_table(path: Path) -> pd.DataFrame:
     return df
 
 
-def _integers(path: Path, col: pd.Series) -> np.ndarray:
+def _frames(path: Path, col: pd.Series, T: int) -> np.ndarray:
+    """The ``frame`` column as integers in ``0..T-1`` (checked before any cast can overflow)."""
     vals = col.astype(float).to_numpy()
     ok = np.isfinite(vals) & (vals == np.round(vals))
     if not ok.all():
         row = int(np.flatnonzero(~ok)[0])
         raise _bad(path, f"column 'frame' must hold whole numbers; row {row} has {col.iloc[row]!r}")
+    out = (vals < 0) | (vals >= T)
+    if out.any():
+        row = int(np.flatnonzero(out)[0])
+        raise _bad(path, f"frame {col.iloc[row]!r} in row {row} is outside 0..{T - 1}")
     return vals.astype(np.int64)
 
 
@@ -74,8 +80,12 @@ def table_to_nll(path: Path, df: pd.DataFrame, keys: list[str], T: int) -> np.nd
         raise _bad(path, f"lacks column(s) {missing}; expected clip_key, [frame,] surprise")
     if df.empty:
         raise _bad(path, "has no rows")
-    if not all(isinstance(k, str) for k in df["clip_key"]):
-        row = int(np.flatnonzero([not isinstance(k, str) for k in df["clip_key"]])[0])
+    try:
+        key_list = df["clip_key"].tolist()
+    except Exception as exc:  # noqa: BLE001 - a parquet string column holding bytes that are not UTF-8
+        raise _bad(path, f"column 'clip_key' is not valid UTF-8 text ({exc})") from exc
+    if not all(isinstance(k, str) for k in key_list):
+        row = int(np.flatnonzero([not isinstance(k, str) for k in key_list])[0])
         raise _bad(path, f"column 'clip_key' must hold text keys; row {row} has {df['clip_key'].iloc[row]!r}")
     for col in ("surprise", "frame"):
         if col in df.columns and (not pd.api.types.is_numeric_dtype(df[col]) or pd.api.types.is_bool_dtype(df[col])):
@@ -86,18 +96,16 @@ def table_to_nll(path: Path, df: pd.DataFrame, keys: list[str], T: int) -> np.nd
         row = int(np.flatnonzero(~np.isfinite(surprise))[0])
         raise _bad(path, f"surprise must be a finite number; row {row} has {df['surprise'].iloc[row]!r}")
     pos = {k: i for i, k in enumerate(keys)}
-    unknown = sorted(set(df["clip_key"]) - set(pos))
+    present = set(df["clip_key"])
+    unknown = sorted(present - set(pos))
     if unknown:
         raise _bad(path, f"{len(unknown)} clip_key(s) are not clips of this probe set, e.g. {unknown[0]!r}; "
                          "was it made from another export?")
-    absent = [k for k in keys if k not in set(df["clip_key"])]
+    absent = [k for k in keys if k not in present]
     if absent:
         raise _bad(path, f"{len(absent)} of {len(keys)} clips have no surprise, e.g. {absent[0]!r}")
     if "frame" in df.columns:
-        frame = _integers(path, df["frame"])
-        if frame.min() < 0 or frame.max() >= T:
-            row = int(np.flatnonzero((frame < 0) | (frame >= T))[0])
-            raise _bad(path, f"frame {frame[row]} in row {row} is outside 0..{T - 1}")
+        frame = _frames(path, df["frame"], T)
     else:
         frame = np.full(len(df), T - 1)
     rows = df["clip_key"].map(pos).to_numpy()
@@ -132,9 +140,9 @@ def score_surprises(probes: ProbeSet | str | Path, surprises: Path, out: Path, *
                   "surprises": {"file": surprises.name, "sha256": sha256_file(surprises),
                                 "per_frame": "frame" in table.columns}},
         "surprise_kind": kind,
-        "probes": {"path": str(Path(ps.path).resolve()), "manifest_sha256": ps.manifest_sha256,
+        "probes": {"path": portable_ref(ps.path, out), "manifest_sha256": ps.manifest_sha256,
                    "concepts": list(ps.manifest.get("concepts", []))},
-        "check": "not applicable (computed outside voe)",
+        "check": "n/a (outside voe)",
         "launcher": {"name": "external", "world_size": 1}, "clips_from_cache": 0, "wall_time_s": 0.0,
     }
     return write_run(out, index, nll, meta, overwrite=overwrite)

@@ -17,6 +17,7 @@ import pandas as pd
 
 from voe.errors import RunError
 from voe.io.paths import inside, resolve_ref
+from voe.scoring.runcheck import check_clips, check_frames
 
 #: What a run's surprise is, by ``surprise_kind`` (``run.json``; runs before it are ``nll``).
 SURPRISE_UNITS = {"nll": "nats", "bound": "bound", "error": "error"}
@@ -99,10 +100,14 @@ def load_run(path: str | Path) -> Run:
         _ = meta["probes"]["manifest_sha256"], meta["model"]["name"], meta["probes"]["path"]
         if not all(isinstance(v, str) for v in (meta["probes"]["manifest_sha256"], meta["probes"]["path"])):
             raise TypeError("probes.path and probes.manifest_sha256 must be strings")
+        if not isinstance(meta["model"]["name"], str) or not isinstance(meta.get("surprise_kind", "nll"), str):
+            raise TypeError("model.name and surprise_kind must be strings")
     except (json.JSONDecodeError, UnicodeDecodeError, KeyError, TypeError) as exc:
         raise RunError(f"{mpath} is malformed ({exc!r}); re-score with `voe score`") from exc
     clips = _read_parquet(inside(path, "clips.parquet", mpath, RunError), CLIP_REQUIRED).reset_index(drop=True)
     frames = _read_parquet(inside(path, "frames.parquet", mpath, RunError), FRAME_REQUIRED)
+    check_clips(clips, path / "clips.parquet")
+    check_frames(frames, path / "frames.parquet")
     T = int(frames["t"].max()) + 1
     pos = pd.Series(np.arange(len(clips)), index=clips["clip_id"].to_numpy())
     try:

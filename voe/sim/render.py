@@ -14,6 +14,7 @@ Screens are opaque and drawn last, so an object that is not ``present`` could no
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable
 from dataclasses import dataclass
 from functools import lru_cache
@@ -62,17 +63,17 @@ def visible(states: np.ndarray, occluders: Iterable[Occluder], extent: tuple[flo
     return out
 
 
-_WORK: dict[tuple[int, ...], np.ndarray] = {}  # float32 work canvases by (T, H', W', C), shared
+_WORK: dict[tuple[int, ...], np.ndarray] = {}  # float32 work canvases by (T, H, W, C), shared
 
 
 @dataclass
 class _Patches:
-    """Every present object of a clip, slot after slot: pixel indices into the padded canvas."""
+    """Every present object of a clip, slot after slot: its patch pixels inside the image."""
 
-    pix: np.ndarray  # (N*P*P,) flat pixel index into (H', W')
-    idx: np.ndarray  # (N*P*P,) flat index into (T, H', W')
-    cov: np.ndarray  # (N*P*P, 1) float32 coverage
-    colour: np.ndarray  # (N*P*P, C) float32
+    pix: np.ndarray  # (M,) flat pixel index into (H, W)
+    idx: np.ndarray  # (M,) flat index into (T, H, W)
+    cov: np.ndarray  # (M, 1) float32 coverage
+    colour: np.ndarray  # (M, C) float32
     bounds: list[tuple[int, int]]  # per slot drawn, its [start, stop) in the flat arrays
 
 
@@ -114,30 +115,21 @@ class Renderer:
         keep = np.broadcast_to(255.0 * (1 - front), back.shape)
         self._layers = (back.astype(np.float32), keep.astype(np.float32),
                         (255.0 * occluder * front).astype(np.float32))
-        self._padded: dict[int, tuple[np.ndarray, ...]] = {}
+        self._empty = np.rint(self._layers[0] * self._layers[1] + self._layers[2]).astype(np.uint8)
 
     def _window(self, x0: float, x1: float, y0: float, y1: float) -> tuple[slice, slice]:
         """Rows and columns of the pixels within two pixels of the box ``[x0, x1] x [y0, y1]``."""
-        S, p = self.size, self.pix
-        cols = slice(int(np.clip(np.floor(x0 / p) - 2, 0, S)), int(np.clip(np.ceil(x1 / p) + 2, 0, S)))
-        rows = slice(int(np.clip(np.floor((self.extent[1] - y1) / p) - 2, 0, S)),
-                     int(np.clip(np.ceil((self.extent[1] - y0) / p) + 2, 0, S)))
+        S, p, top = self.size, self.pix, self.extent[1]
+
+        def bound(v: float) -> int:
+            return min(max(int(v), 0), S)
+
+        cols = slice(bound(math.floor(x0 / p) - 2), bound(math.ceil(x1 / p) + 2))
+        rows = slice(bound(math.floor((top - y1) / p) - 2), bound(math.ceil((top - y0) / p) + 2))
         return rows, cols
 
     def _coverage(self, sd: np.ndarray) -> np.ndarray:
         return np.clip(0.5 - sd / self.pix, 0.0, 1.0)
-
-    def _layers_padded(self, pad: int) -> tuple[np.ndarray, ...]:
-        """Background, keep, cover and the finished empty frame with a margin of ``pad`` pixels
-        (the margin's values never reach an output frame)."""
-        if pad not in self._padded:
-            S, C = self.size, self._layers[0].shape[-1]
-            back, keep, cover = (np.zeros((S + 2 * pad, S + 2 * pad, C), np.float32) for _ in range(3))
-            for dst, src in zip((back, keep, cover), self._layers, strict=True):
-                dst[pad:-pad, pad:-pad] = src
-            empty = np.rint(back * keep + cover).astype(np.uint8)
-            self._padded[pad] = (back, keep, cover, empty)
-        return self._padded[pad]
 
     # -- clips -------------------------------------------------------------------------------
     def clip(self, states: np.ndarray, present: np.ndarray) -> np.ndarray:
@@ -149,31 +141,29 @@ class Renderer:
         T, K = present.shape
         k, t = np.nonzero(present.T)  # (N,) slot and frame of every present object, slot-major
         st = states[t, k].astype(np.float64)  # (N, F)
-        P = int(np.ceil(2 * np.max(half_extents(st), initial=0.0) / self.pix)) + 3  # patch side
-        pad = 8 * int(np.ceil(max(16, P + 4) / 8))  # margin that any patch fits in
-        back, keep, cover, empty = self._layers_padded(pad)
-        out = np.empty((T,) + empty.shape, dtype=np.uint8)  # (T, H', W', C)
-        out[:] = empty
+        S, C = self.size, self._empty.shape[-1]
+        out = np.empty((T, S, S, C), dtype=np.uint8)
+        out[:] = self._empty
         if len(t):
-            C = empty.shape[-1]
-            work = _WORK.get((T,) + empty.shape)
+            work = _WORK.get((T, S, S, C))
             if work is None:
-                work = _WORK[(T,) + empty.shape] = np.zeros((T,) + empty.shape, dtype=np.float32)
-            w, o = work.reshape(-1, C), out.reshape(-1, C)  # (T*H'*W', C) views
-            back, keep, cover = (x.reshape(-1, C) for x in (back, keep, cover))
-            p = self._patches(t, k, st, P, pad)
+                work = _WORK[(T, S, S, C)] = np.zeros((T, S, S, C), dtype=np.float32)
+            w, o = work.reshape(-1, C), out.reshape(-1, C)  # (T*H*W, C) views
+            back, keep, cover = (x.reshape(-1, C) for x in self._layers)
+            p = self._patches(t, k, st)
             w[p.idx] = back[p.pix]  # reset the patches to the background first: patches overlap
             for a, b in p.bounds:  # then blend the objects in slot order
                 i, cov = p.idx[a:b], p.cov[a:b]
                 w[i] = w[i] * (1 - cov) + p.colour[a:b] * cov
             v = w[p.idx] * keep[p.pix] + cover[p.pix]
             o[p.idx] = np.rint(v, out=v)
-        out = np.ascontiguousarray(out[:, pad:-pad, pad:-pad])  # (T, H, W, C)
         return out if self.rgb else out[..., 0]
 
-    def _patches(self, t: np.ndarray, k: np.ndarray, st: np.ndarray, P: int, pad: int) -> _Patches:
-        """Coverage of each object in a ``P x P`` patch around it; ``t``, ``k`` (N,), ``st`` (N, F)."""
+    def _patches(self, t: np.ndarray, k: np.ndarray, st: np.ndarray) -> _Patches:
+        """Coverage of each object in a ``P x P`` patch around it; ``t``, ``k`` (N,), ``st`` (N, F).
+        Patch pixels outside the image are dropped (they can reach no output)."""
         ex, ey = half_extents(st)  # (N,)
+        P = int(np.ceil(2 * max(ex.max(), ey.max()) / self.pix)) + 3  # patch side
         x, y = st[:, X], st[:, Y]
         j0 = np.floor((x - ex) / self.pix - 1).astype(np.int64)  # first column the object can tint
         i0 = np.floor((self.extent[1] - y - ey) / self.pix - 1).astype(np.int64)
@@ -200,13 +190,16 @@ class Renderer:
         colour = st[:, INTENSITY, None]  # (N, 1)
         if self.rgb:
             colour = colour * np.array(RGB_SLOTS)[k % len(RGB_SLOTS)]  # (N, 3)
-        side = self.size + 2 * pad
-        pix = ((ii + pad)[:, :, None] * side + (jj + pad)[:, None, :]).ravel()  # (N*P*P,)
-        starts = np.flatnonzero(np.r_[True, k[1:] != k[:-1]])
-        bounds = [(int(a) * P * P, int(b) * P * P) for a, b in zip(starts, np.r_[starts[1:], len(k)], strict=True)]
-        return _Patches(pix, np.repeat(t, P * P) * (side * side) + pix,
-                        self._coverage(sd).reshape(-1, 1).astype(np.float32),
-                        np.repeat(colour, P * P, axis=0).astype(np.float32), bounds)
+        S = self.size
+        inside = ((ii >= 0) & (ii < S))[:, :, None] & ((jj >= 0) & (jj < S))[:, None, :]  # (N, P, P)
+        pix = (ii[:, :, None] * S + jj[:, None, :])[inside]  # (M,) flat pixel index in (H, W)
+        per_object = inside.sum(axis=(1, 2))  # (N,)
+        idx = np.repeat(t, per_object) * (S * S) + pix
+        ends = np.cumsum(per_object)
+        last = np.flatnonzero(np.r_[k[1:] != k[:-1], True])  # last object of each slot
+        bounds = [(int(a), int(b)) for a, b in zip(np.r_[0, ends[last][:-1]], ends[last], strict=True)]
+        cov = self._coverage(sd)[inside].astype(np.float32)[:, None]  # (M, 1)
+        return _Patches(pix, idx, cov, np.repeat(colour, per_object, axis=0).astype(np.float32), bounds)
 
     # -- single frames (tests, figures) ---------------------------------------------------------
     def frame(self, objects: Iterable[tuple[Body, float, float, float]]) -> np.ndarray:
@@ -243,7 +236,7 @@ def _sd_segment(px, py, a, b, r: float) -> np.ndarray:
     return np.hypot(px - ax - h * vx, py - ay - h * vy) - r
 
 
-@lru_cache(maxsize=64)
+@lru_cache(maxsize=16)  # the clips of a set share one; 16 bound memory at 224 px RGB too
 def renderer_cached(statics: tuple[Segment, ...], occluders: tuple[Occluder, ...],
                     extent: tuple[float, float], size: int, rgb: bool = False) -> Renderer:
     """A renderer shared by every clip with the same static geometry (the clips of a set)."""
