@@ -52,7 +52,8 @@ def test_cli_diagnose_default_form_and_bench_help(flight_files, tmp_path):
     assert r.exit_code == 0, r.output
     data = json.loads((out / "gap.json").read_text())
     assert data["verdict"] in ("consistent", "mismatch")
-    assert set(data) >= {"verdict", "located", "effects", "fit", "explanation", "provenance"}
+    assert set(data) >= {"verdict", "located", "effects", "fit", "explanation", "provenance", "episodes", "dropped"}
+    assert data["episodes"]["scheme"] == "cross-validation" and len(data["episodes"]["folds"]) == 3  # 3 episodes
     assert len(data["provenance"]["inputs"]["scene"]["sha256"]) == 64
     assert (out / "gap.md").exists() and (out / "trajectories.png").exists() and (out / "residual.png").exists()
     r = CliRunner().invoke(app, ["gap", "bench", "--help"])

@@ -144,3 +144,23 @@ def test_tie_break_uses_windows_where_predictions_differ():
     gains = {"linear_drag": 0.5, "quadratic_drag": 0.52}  # pretend the wrong one is ahead by a hair
     best, group, basis = tie_break(fitter, list(cands), results, cands, {"flight"}, gains, float(sigma[0, 0]))
     assert best == "linear_drag" and "predictions differ" in basis
+
+
+def test_null_runs_the_same_rounds_forcing_in_its_best_candidate():
+    from voe.gap.fit import FitConfig, Fitter
+    from voe.gap.folds import FoldedFitter
+    from voe.gap.null import NullSearch
+
+    scene, eps = flight_episodes(n=4, duration=1.0, seed=12)
+    sigma = noise_model(eps)[0]
+    sh = Shooter(scene, eps, 1e-3, 8)
+    fitter = FoldedFitter([Fitter(sh, sigma, make_windows(eps, [0, 1], 0.5), make_windows(eps, [2, 3], 0.5),
+                                  context_for(scene, eps[:2]), FitConfig(max_nfev=4, refine_nfev=4))])
+    cands = {k: EFFECTS.get(k)() for k in ("linear_drag", "quadratic_drag")}
+    null = NullSearch(fitter, cands, alpha=0.05, min_gain=0.05, seed=0)
+    t1 = null.threshold(1)  # computes rounds 0 and 1
+    r = null.result()
+    assert len(r) == 2 and r[0].forced in cands and r[1].forced != r[0].forced
+    assert set(r[1].gains) == set(cands) - {r[0].forced}  # round 2 fits what is left on top of round 1's
+    assert t1 >= 0.05 and r[0].threshold >= max(g for g in r[0].gains.values())
+    assert null.threshold(0) == r[0].threshold and len(null.result()) == 2  # no recomputation

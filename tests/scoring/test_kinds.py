@@ -51,5 +51,6 @@ def test_report_prints_the_kind(synth_probes, tmp_path):
     md = (tmp_path / "rep" / "report.md").read_text()
     models = md[md.index("## Models"):md.index("## Which model")]
     assert "surprise" in models and "| error" in models and "| nll" in models
+    assert "| check" in models and "| skipped" in models  # scored through the Python API, unchecked
     rel = s.set_index("model")["relative_surprise"]
     assert np.isnan(rel["cheating"]).all() and not np.isnan(rel["blind"]).any()

@@ -1,6 +1,6 @@
 """Training: fit a learned model (or calibrate a reference) on a training set, with validation.
 
-Why: one loop serves every learned model. Models expose ``prepare`` (the whole set as tensors)
+Why: one loop serves every learned model. Models expose ``prepare`` (clips as tensors)
 and ``nll`` over windows of frames; state models train on windows of 2 frames (their inputs hold
 the per-slot memory already), the pixel model on short windows through its recurrent memory.
 References are "trained" by fitting their noise by maximum likelihood. Validation NLL is the mean

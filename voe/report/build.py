@@ -70,6 +70,7 @@ def _describe_runs(runs: Sequence[Run]) -> pd.DataFrame:
         args = ", ".join(f"{k}={v}" for k, v in sorted((m.get("args") or {}).items()))
         rows.append({"model": r.label, "ref": m.get("ref", ""), "args": args,
                      "observation": m.get("observation", ""), "surprise": r.surprise_kind,
+                     "check": r.meta.get("check", "-"),  # check_model before scoring: passed / skipped
                      "checkpoint sha256": (m.get("checkpoint_sha256") or "-")[:12],
                      "clips": len(r.clips), "wall time (s)": r.meta.get("wall_time_s", ""),
                      "run": r.path.name})

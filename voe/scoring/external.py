@@ -142,7 +142,7 @@ def score_surprises(probes: ProbeSet | str | Path, surprises: Path, out: Path, *
         "surprise_kind": kind,
         "probes": {"path": portable_ref(ps.path, out), "manifest_sha256": ps.manifest_sha256,
                    "concepts": list(ps.manifest.get("concepts", []))},
-        "check": "not applicable (computed outside voe)",
+        "check": "n/a (outside voe)",
         "launcher": {"name": "external", "world_size": 1}, "clips_from_cache": 0, "wall_time_s": 0.0,
     }
     return write_run(out, index, nll, meta, overwrite=overwrite)

@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from voe import __version__
 from voe.errors import ModelContractError, RunError, VoeError
 from voe.io.paths import portable_ref
 from voe.io.probeset import ProbeSet, load_probe_set
@@ -137,7 +138,8 @@ def score_probe_set(model: Any, probes: ProbeSet | str | Path, out: Path, *, mod
     sched = plan(ps.index, batch_size, seed)
     blinder = Blinder(ps, seed)
     place(model, rank_device(device))
-    fields = {"model": ref, "args": dict(model_args or {}), "name": name, "checkpoint_sha256": ck_sha,
+    fields = {"model": ref, "class": f"{type(model).__module__}:{type(model).__qualname__}",
+              "voe_version": __version__, "args": dict(model_args or {}), "name": name, "checkpoint_sha256": ck_sha,
               "manifest_sha256": ps.manifest_sha256, "batch_size": batch_size, "seed": seed,
               "surprise_kind": kind, "device": device, "bf16": bf16}
     if cache_root is None and ranks.world > 1:  # also for shards: the cache is the hand-over

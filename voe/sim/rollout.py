@@ -14,7 +14,7 @@ import numpy as np
 
 from voe.sim.render import Renderer, renderer_cached, visible
 from voe.sim.scene import Scene, SimConfig
-from voe.sim.world import World, decode_poses, new_buffer
+from voe.sim.world import Looks, World, decode_poses, new_buffer
 
 
 class Recording:
@@ -74,7 +74,7 @@ class Recorder:
         self.geometry = scene.geometry()
         self.renderer = renderer or renderer_cached(scene.statics, scene.occluders, scene.extent, cfg.size)
         self._buf = new_buffer()  # raw pose reads, appended once per frame
-        self._frames: list[tuple[int, dict]] = []  # per frame: bodies read so far, their looks
+        self._frames: list[tuple[int, Looks]] = []  # per frame: bodies read so far, their looks
 
     def capture(self, world: World) -> None:
         """Record the world as it is now (one batched read; decoded in ``truth``/``result``)."""

@@ -76,11 +76,30 @@ def _remainder_2pi(x: np.ndarray) -> np.ndarray:
     return np.where(r > math.pi, r - two_pi, np.where(r < -math.pi, r + two_pi, r))
 
 
-Look = tuple[int, tuple[float, ...], bool]  # slot, constant features (is_circle .. intensity), is a box
+class Looks:
+    """What the bodies of a space look like, by body id, as sorted arrays for decoding reads.
+
+    Attributes:
+        ids: ``(u,)`` sorted body ids (pymunk's ``Body.id``), the space's static body included.
+        slot: ``(u,)`` slot of each body, -1 for the static body.
+        tails: ``(u, 5)`` constant features ``is_circle .. intensity`` (NaN for the static body).
+        box: ``(u,)`` the body is a box (its angle is wrapped into ``[-pi, pi]``).
+    """
+
+    def __init__(self, space: pymunk.Space) -> None:
+        rows = {space.static_body.id: (-1, (np.nan,) * 5, False)}
+        for b in space.bodies:
+            spec: Body = b.voe_spec
+            tail = (spec.shape == "circle", spec.shape == "box", spec.width, spec.height, spec.intensity)
+            rows[b.id] = (spec.slot, tail, spec.shape == "box")
+        keys = sorted(rows)
+        self.ids = np.array(keys, dtype=np.int64)
+        self.slot = np.array([rows[k][0] for k in keys], dtype=np.int64)
+        self.tails = np.array([rows[k][1] for k in keys], dtype=np.float64).reshape(-1, 5)
+        self.box = np.array([rows[k][2] for k in keys], dtype=bool)
 
 
-def decode_poses(buf: pymunk.batch.Buffer, frames: list[tuple[int, dict[int, Look | None]]],
-                 n_slots: int) -> np.ndarray:
+def decode_poses(buf: pymunk.batch.Buffer, frames: list[tuple[int, Looks]], n_slots: int) -> np.ndarray:
     """States ``(T, K, F)`` float64 (NaN rows for missing slots) from ``T`` appended reads.
 
     Args:
@@ -91,24 +110,22 @@ def decode_poses(buf: pymunk.batch.Buffer, frames: list[tuple[int, dict[int, Loo
     dyn = np.frombuffer(buf.float_buf(), dtype=np.float64).reshape(-1, 6)  # (M, 6) x y angle vx vy omega
     out = np.full((len(frames), n_slots, N_FEATURES), np.nan)
     ends = np.array([n for n, _ in frames], dtype=np.int64)
-    counts = np.diff(ends, prepend=0)
-    frame_of = np.repeat(np.arange(len(frames)), counts)  # (M,)
+    frame_of = np.repeat(np.arange(len(frames)), np.diff(ends, prepend=0))  # (M,)
     looks_of = [lk for _, lk in frames]
     start = 0
-    for f in range(1, len(frames) + 1):  # runs of frames that share one looks dict (usually all)
+    for f in range(1, len(frames) + 1):  # runs of frames that share one Looks (usually all)
         if f < len(frames) and looks_of[f] is looks_of[start]:
             continue
-        a, b = (ends[start - 1] if start else 0), ends[f - 1]
-        looks = looks_of[start]
-        uniq, inv = np.unique(ids[a:b], return_inverse=True)
-        table = [looks[int(u)] for u in uniq]
-        slot = np.array([-1 if lk is None else lk[0] for lk in table])[inv]  # (m,)
-        keep = slot >= 0
-        rows, cols = frame_of[a:b][keep], slot[keep]
+        a, b, looks = (ends[start - 1] if start else 0), ends[f - 1], looks_of[start]
+        at = np.minimum(np.searchsorted(looks.ids, ids[a:b]), len(looks.ids) - 1)  # (m,)
+        if not np.array_equal(looks.ids[at], ids[a:b]):
+            raise RuntimeError("internal: a pose read names a body its Looks does not know")
+        keep = looks.slot[at] >= 0
+        at = at[keep]
+        rows, cols = frame_of[a:b][keep], looks.slot[at]
         out[rows, cols, :6] = dyn[a:b][keep]
-        tails = np.array([(np.nan,) * 5 if lk is None else lk[1] for lk in table])  # (u, 5)
-        out[rows, cols, 6:] = tails[inv][keep]
-        boxes = np.array([lk is not None and lk[2] for lk in table])[inv][keep]
+        out[rows, cols, 6:] = looks.tails[at]
+        boxes = looks.box[at]
         out[rows[boxes], cols[boxes], 2] = _remainder_2pi(out[rows[boxes], cols[boxes], 2])
         start = f
     return out
@@ -131,7 +148,7 @@ class World:
         self.space.gravity = scene.gravity
         self.space.iterations = 20
         self._batch: pymunk.batch.Buffer = new_buffer()
-        self._looks: dict[int, Look | None] | None = None  # body id -> look, see ``looks``
+        self._looks: Looks | None = None  # see ``looks``
         for seg in scene.statics:
             self._add_static(seg)
         for spec in scene.bodies:
@@ -210,19 +227,14 @@ class World:
         for _ in range(self.substeps):
             self.space.step(h)
 
-    def looks(self) -> dict[int, Look | None]:
-        """Body id -> (slot, constant features, is a box) of every body now in the space; the
-        space's own static body maps to None. A new dict whenever bodies were added or removed,
-        so a reference taken now stays valid for the frames read now."""
+    def looks(self) -> Looks:
+        """What the bodies now in the space look like. A new object whenever bodies were added or
+        removed, so a reference taken now stays valid for the frames read now."""
         if self._looks is None:
-            self._looks = {self.space.static_body.id: None}
-            for b in self.space.bodies:
-                spec: Body = b.voe_spec
-                tail = (spec.shape == "circle", spec.shape == "box", spec.width, spec.height, spec.intensity)
-                self._looks[b.id] = (spec.slot, tail, spec.shape == "box")
+            self._looks = Looks(self.space)
         return self._looks
 
-    def read_poses(self, buf: pymunk.batch.Buffer) -> dict[int, Look | None]:
+    def read_poses(self, buf: pymunk.batch.Buffer) -> Looks:
         """Append every body's id, x, y, angle, vx, vy, omega to ``buf`` (one C call); returns the
         ``looks`` that decode them (see ``decode_poses``)."""
         pymunk.batch.get_space_bodies(self.space, _POSE_FIELDS, buf)
