@@ -92,14 +92,16 @@ def build_report(run_dirs: Sequence[str | Path], out: Path, title: str | None = 
         The summary table (one row per model x concept).
     """
     from voe.controls.check import check_probe_set
-    from voe.controls.confound import apply_confounding
+    from voe.controls.confound import apply_confounding, scoped_confounders
     from voe.report import figures as F
     from voe.report.validity import control_blocks
 
     runs = load_runs(run_dirs)
     check = check_probe_set(runs[0].probes_path, runs[0].manifest_sha256,
-                            Path(validity) if validity is not None else None, n_boot=n_boot)
-    summary = apply_confounding(concept_table(runs, n_boot=n_boot, seed=seed), check.confounds)
+                            Path(validity) if validity is not None else None, n_boot=n_boot, runs=runs)
+    arch_of = {r.label: str(r.meta["model"].get("class", "")) for r in runs}
+    summary = apply_confounding(concept_table(runs, n_boot=n_boot, seed=seed), check.confounds,
+                                scoped_confounders(check.matrix) if not check.matrix.empty else {}, arch_of)
     conditions = condition_table(runs, n_boot=n_boot, seed=seed)
     concepts = sorted(summary["concept"].unique())
     title = title or f"voe report: {len(runs)} model(s) x {len(concepts)} concept(s)"
