@@ -94,7 +94,7 @@ def build_report(run_dirs: Sequence[str | Path], out: Path, title: str | None = 
     from voe.controls.check import check_probe_set
     from voe.controls.confound import apply_confounding, scoped_confounders
     from voe.report import figures as F
-    from voe.report.validity import control_blocks
+    from voe.report.validity import control_blocks, summary_sizing
 
     runs = load_runs(run_dirs)
     check = check_probe_set(runs[0].probes_path, runs[0].manifest_sha256,
@@ -135,7 +135,7 @@ def build_report(run_dirs: Sequence[str | Path], out: Path, title: str | None = 
                 save_figure(F.example_filmstrip(by_label[model], frames[sid], sid), tmp / name)
                 films.append(R.Figure(name, f"filmstrip {sid}", f"{concept}: set {sid}, traces of {model}."))
         blocks = _blocks(title, runs, summary, conditions, concepts, looking, films, film_note, show_paths)
-        blocks[-2:-2] = control_blocks(check)
+        blocks[-2:-2] = [*control_blocks(check), R.Para(summary_sizing(summary))]
         if validity is not None:
             blocks[-2:-2] = _validity_blocks(Path(validity), tmp, check.confounds)
         check.matrix.to_csv(tmp / "controls.csv", index=False, float_format="%.6g")
