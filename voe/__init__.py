@@ -15,6 +15,9 @@ _LAZY = {
     "Batch": "voe.io.batch:Batch",
     "Model": "voe.models.protocol:Model",
     "check_concept": "voe.concepts.check:check_concept",
+    "check_model": "voe.models.check:check_model",
+    "score_probe_set": "voe.scoring.score:score_probe_set",
+    "score_surprises": "voe.scoring.external:score_surprises",
     "CONCEPTS": "voe.concepts:CONCEPTS",
 }
 

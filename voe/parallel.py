@@ -104,6 +104,10 @@ def parallel_map(fn: Callable[[T], R], items: Iterable[T], jobs: int = 1,
             yield result
             if progress:
                 progress(1)
+    except KeyboardInterrupt:  # Ctrl-C or SIGTERM (voe.cli.main) sent to this process alone:
+        for proc in list((getattr(pool, "_processes", None) or {}).values()):
+            proc.terminate()  # stop the workers now instead of waiting out their items
+        raise
     finally:
         pool.shutdown(wait=True, cancel_futures=True)
         _FNS.pop(token, None)

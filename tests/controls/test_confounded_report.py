@@ -62,3 +62,4 @@ def test_a_perfect_model_is_confounded_where_a_knowledge_free_control_separates_
     assert {"density", "motion-energy", "stress-frame", "framecopy", "smoothness"} <= set(controls["control"])
     md = (report / "report.md").read_text()
     assert "Can the probes tell?" in md and "confounded" in md and "stress-frame 1.00" in md
+    assert "decisive from 6 verdict-carrying sets per concept; the smallest concept here has 12." in md

@@ -66,8 +66,12 @@ def test_logistic_regression_separates_and_folds_keep_sets_whole():
     rng = np.random.default_rng(0)
     X = np.concatenate([rng.normal(-1, 0.3, (50, 2)), rng.normal(1, 0.3, (50, 2))])
     y = np.r_[np.zeros(50), np.ones(50)]
-    w, b, mu, sd = fit_logistic(X, y)
+    w, b, mu, sd = fit_logistic(X, y, 1 - y)
     assert (((X - mu) / sd @ w + b > 0) == y.astype(bool)).mean() > 0.95
+    # counts are occurrences: one row seen twice fits like two identical rows
+    w2, b2, _, _ = fit_logistic(np.r_[X, X[:1]], np.r_[y, y[:1]], np.r_[1 - y, 1 - y[:1]])
+    w3, b3, _, _ = fit_logistic(X, y + np.eye(100)[0] * y[0], (1 - y) + np.eye(100)[0] * (1 - y[0]))
+    assert np.allclose(w2, w3, atol=1e-5) and b2 == pytest.approx(b3, abs=1e-5)
     f = folds(np.array(["s2", "s1", "s1", "s3", "s2", "s9"]), k=2)
     assert f.tolist() == [1, 0, 0, 0, 1, 1]
 

@@ -91,16 +91,8 @@ def _accuracy(model, root: Path, calib, concept: str, condition: str | None) -> 
     return float(sets["accuracy"].mean())
 
 
-#: Energy-v3 is the time reversal of a dissipative bounce (F+M balanced). The oracle that allows
-#: bounces to gain energy still finds the reversed bounce more surprising than the forward one
-#: (measured 1.00), so what the intact oracle passes on Energy-v3 is not only the energy gain:
-#: an open finding (probes/energy/README.md), kept visible here rather than declared away.
-_OPEN = {"energy-gain": "energy-gain lesion does not break Energy-v3 (reversed bounces cost it too)"}
-
-
 @pytest.mark.slow
-@pytest.mark.parametrize("lesion", [pytest.param(n, marks=pytest.mark.xfail(strict=True, reason=_OPEN[n]))
-                                    if n in _OPEN else n for n in LESIONS])
+@pytest.mark.parametrize("lesion", list(LESIONS))
 def test_lesion_breaks_what_it_declares(lesion, setting):
     root, calib = setting
     for concept, condition in _broken(lesion):

@@ -114,3 +114,19 @@ def test_random_networks_are_ten_per_architecture_non_constant_and_differ_by_see
         x, y = a.frame_nll(batch)[:, 1:], b.frame_nll(batch)[:, 1:]  # (B, T-1)
         assert np.isfinite(x).all() and x.std(0).mean() > 1e-3, f"{arch} is constant across clips"
         assert not np.allclose(x, y), f"{arch}: two seeds give the same function"
+
+
+def test_random_networks_confound_only_models_of_their_own_class():
+    from voe.controls.confound import scoped_confounders
+
+    m = pd.DataFrame([_matrix_row("random-interaction-s0", "random-net", 1.0, 1.0, 1.0, LEARNED, "chance"),
+                      _matrix_row("density", "knowledge-free", 0.5, 0.3, 0.7, NOT_LEARNED, "chance")])
+    m["scope"] = ["voe.models.interaction:InteractionNet", ""]
+    assert not confounders(m)["confounded"].any()
+    scoped = scoped_confounders(m)
+    summary = pd.DataFrame({"model": ["interaction", "oracle"], "concept": "X-v1", "verdict": LEARNED})
+    out = apply_confounding(summary, confounders(m), scoped,
+                            {"interaction": "voe.models.interaction:InteractionNet",
+                             "oracle": "voe.models.oracle:PhysicsOracle"}).set_index("model")
+    assert out.loc["interaction", "verdict"] == CONFOUNDED and out.loc["oracle", "verdict"] == LEARNED
+    assert out.loc["interaction", "confounded_by"].startswith("random-interaction-s0 1.00")

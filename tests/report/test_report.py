@@ -128,8 +128,9 @@ def test_report_from_generated_permanence_probes(tmp_path):
     s = build_report([tmp_path / "cheating", tmp_path / "blind"], tmp_path / "rep", n_boot=500)
     s = s.set_index("model")
     assert s.loc["cheating", "accuracy"] == 1.0 and s.loc["blind", "accuracy"] == 0.5
-    assert s.loc["cheating", "p_value"] == 1 / 16  # exact: 4 sets
-    assert s.loc["cheating", "verdict"] == "inconclusive"  # perfect, but 4 sets cannot prove it
+    assert s.loc["cheating", "n_sets"] == 2  # the 2 perceptual sets of 4 carry no verdict
+    assert s.loc["cheating", "p_value"] == 1 / 4  # exact: 2 sets
+    assert s.loc["cheating", "verdict"] == "inconclusive"  # perfect, but 2 sets cannot prove it
     assert (tmp_path / "rep" / "figures" / "filmstrip_permanence.png").is_file()
 
 

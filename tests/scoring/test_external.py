@@ -90,6 +90,13 @@ def test_unreadable_files_on_the_cli(name, data, needle, synth_probes, tmp_path)
     assert lines[0].startswith("voe: error: surprise table") and name in lines[0] and needle in lines[0]
 
 
+def test_surprise_options_need_a_table(synth_probes, tmp_path):
+    res = subprocess.run([sys.executable, "-m", "voe", "score", "--probes", str(synth_probes), "--model",
+                          "voe.testing:BlindModel", "--surprise-kind", "error", "--out", str(tmp_path / "r")],
+                         capture_output=True, text=True)
+    assert res.returncode == 1 and "--surprise-kind and --name go with --surprises" in res.stderr
+
+
 def test_fuzzed_tables_give_only_one_line_errors(synth_probes, tmp_path):
     """Any table (types, NaN, huge and negative values, unicode, empty, damaged bytes): a run or a
     one-line VoeError naming the file, never another exception."""

@@ -48,6 +48,7 @@ def single(synth_probes, tmp_path_factory) -> Path:
 
 
 def test_two_gloo_ranks_are_byte_identical_to_one_process(single, synth_probes, tmp_path):
+    pytest.importorskip("torch.distributed")
     res = _voe("--standalone", "--nproc_per_node", "2", "-m", "voe", "score", "--probes", str(synth_probes),
                "--model", MODEL, "--batch-size", "3", "--out", str(tmp_path / "run"), tmp=tmp_path,
                runner=("-m", "torch.distributed.run"))
@@ -60,6 +61,7 @@ def test_two_gloo_ranks_are_byte_identical_to_one_process(single, synth_probes, 
 
 @pytest.mark.slow  # the same launch as above, through `voe score --launcher torchrun`
 def test_launcher_option_execs_torchrun(single, synth_probes, tmp_path):
+    pytest.importorskip("torch.distributed")
     res = _voe("score", "--probes", str(synth_probes), "--model", MODEL, "--batch-size", "3", "--out",
                str(tmp_path / "run"), "--launcher", "torchrun", "--nproc", "2", tmp=tmp_path)
     assert res.returncode == 0, res.stderr

@@ -169,6 +169,9 @@ def register(app: typer.Typer) -> None:
             raise VoeError(f"--launcher must be python or torchrun, not {launcher!r}")
         if surprises is None and model is None:
             raise VoeError("give --model (a registered id or module:attr) or --surprises FILE")
+        if surprises is None and (surprise_kind != "nll" or name):
+            raise VoeError("--surprise-kind and --name go with --surprises; a model declares its own "
+                           "surprise_kind and name")
         # The output is checked before any work. Its lock is held by the process that writes the
         # run: not a launcher that execs torchrun (its pid lives on as torchrun's), not a job-array
         # shard, not a rank other than 0.

@@ -55,7 +55,8 @@ def register(app: typer.Typer) -> None:
             from voe.controls.suite import default_per_concept
 
             per_concept = default_per_concept(len(SUITES["core"]))
-        work = work or scratch_dir(f"validity-{per_concept}x{world_n}-seed{seed}")
+        sizes = f"{per_concept}x{world_n}" if probes is None else f"given-x{world_n}"
+        work = work or scratch_dir(f"validity-{sizes}-seed{seed}")
         typer.echo(f"scratch directory (reused on rerun): {work}")
         with output_lock(work):
             matrix = run(out, work, probes, world, user, fams or None, per_concept, world_n, seed,

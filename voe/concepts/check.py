@@ -16,6 +16,8 @@ concept (ours or a user's) is held to the same standard:
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 
 from voe.concepts.base import Concept, MatchedSet
@@ -95,19 +97,29 @@ def _check_plausible(c: Concept, i: int, m: MatchedSet, cfg: SimConfig) -> None:
             _fail(c, i, f"possible clip {clip.variant}: slot {k} jumps {step[t, k]:.3f} at frame {t + 1}")
 
 
-def check_concept(concept: Concept, n_sets: int = 6, seed: int = 0, cfg: SimConfig | None = None) -> None:
-    """Run every conformance check on ``n_sets`` matched sets; raises ``ConceptError`` on failure."""
+def check_concept(concept: Concept, n_sets: int = 6, seed: int | Sequence[int] = 0,
+                  cfg: SimConfig | None = None) -> None:
+    """Run every conformance check on ``n_sets`` matched sets of each seed; raises ``ConceptError``.
+
+    Args:
+        seed: one seed or several: a concept's balance claims must hold on every set of each.
+    """
     cfg = cfg or SimConfig()
     _check_declarations(concept)
-    for i in range(n_sets):
-        m = concept.make_set(i, seed, cfg)
-        again = concept.make_set(i, seed, cfg)
-        for a, b in zip(m.clips, again.clips, strict=True):
-            if not (np.array_equal(a.rec.frames, b.rec.frames)
-                    and np.array_equal(a.rec.states, b.rec.states, equal_nan=True)):
-                _fail(concept, i, f"clip {a.variant} is not deterministic")
-        if m.visible != (i % 2 == 0) or m.n_distractors != (i // 2) % 3:
-            _fail(concept, i, "conditions are not the ones the base class assigned")
-        _check_schema(concept, i, m, cfg)
-        _check_balance(concept, i, m, cfg)
-        _check_plausible(concept, i, m, cfg)
+    for s in ([seed] if isinstance(seed, int) else list(seed)):
+        for i in range(n_sets):
+            _check_set(concept, i, s, cfg)
+
+
+def _check_set(concept: Concept, i: int, seed: int, cfg: SimConfig) -> None:
+    m = concept.make_set(i, seed, cfg)
+    again = concept.make_set(i, seed, cfg)
+    for a, b in zip(m.clips, again.clips, strict=True):
+        if not (np.array_equal(a.rec.frames, b.rec.frames)
+                and np.array_equal(a.rec.states, b.rec.states, equal_nan=True)):
+            _fail(concept, i, f"clip {a.variant} is not deterministic")
+    if m.visible != (i % 2 == 0) or m.n_distractors != (i // 2) % 3:
+        _fail(concept, i, "conditions are not the ones the base class assigned")
+    _check_schema(concept, i, m, cfg)
+    _check_balance(concept, i, m, cfg)
+    _check_plausible(concept, i, m, cfg)

@@ -61,7 +61,8 @@ class Collision(Concept):
                 "x_left": [centre - sizes[0] / 2 - speeds[0] * t_c, centre + sizes[1] / 2 + speeds[1] * t_c],
                 "elasticity": [self.uniform(rng, r["elasticity"]) for _ in range(2)],
                 "screen_width": 2 * (max(sizes) + margin),
-                "screen_height": height + self.uniform(rng, r["screen_above"])}
+                # the screen's foot is 0.3 below the floor's top: its top is screen_above over the objects
+                "screen_height": height + 0.3 + self.uniform(rng, r["screen_above"])}
 
     def build(self, p: dict[str, Any], ctx: Context, side: int) -> Scene:
         """Object 1 starts on the left (``side=-1``, A) or, mirrored, on the right (``+1``, B)."""

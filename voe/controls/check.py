@@ -12,6 +12,7 @@ when one is given (``--validity``) and was run on the same probe set (same manif
 from __future__ import annotations
 
 import json
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -22,6 +23,8 @@ from voe.controls.confound import confounders, no_balanced_design
 from voe.controls.matrix import specificity_matrix
 from voe.controls.probe_runs import probe_set_runs, set_balance
 from voe.errors import ProbeSetError, RunError
+from voe.scoring.runs import Run
+from voe.scoring.table import OPTIONAL_SET_KEYS
 
 
 @dataclass(frozen=True)
@@ -47,9 +50,21 @@ def read_matrix(validity: Path) -> tuple[pd.DataFrame, str]:
     return matrix, sha
 
 
+def enrich_runs(runs: Sequence[Run], index: pd.DataFrame) -> None:
+    """Give runs scored before the index had them its per-set columns (condition, whether it
+    carries the verdict, no balanced design), matched by clip id, in place."""
+    cols = [c for c in OPTIONAL_SET_KEYS if c in index.columns]
+    for run in runs:
+        missing = [c for c in cols if c not in run.clips.columns]
+        if missing:
+            extra = index.set_index("clip_id")[missing].reindex(run.clips["clip_id"].to_numpy())
+            run.clips = pd.concat([run.clips, extra.reset_index(drop=True)], axis=1)
+
+
 def check_probe_set(probes: Path, manifest_sha256: str, validity: Path | None = None,
-                    n_boot: int = 10_000) -> ControlCheck:
-    """Compute the probe-set controls (and add a matching stored validity matrix)."""
+                    n_boot: int = 10_000, runs: Sequence[Run] = ()) -> ControlCheck:
+    """Compute the probe-set controls (and add a matching stored validity matrix); ``runs`` of
+    this probe set get its per-set columns if they lack them (``enrich_runs``)."""
     from voe.io.probeset import load_probe_set
 
     try:
@@ -61,6 +76,7 @@ def check_probe_set(probes: Path, manifest_sha256: str, validity: Path | None = 
     if ps.manifest_sha256 != manifest_sha256:
         raise RunError(f"the probe set at {probes} has changed since scoring (manifest hash differs); "
                        "its controls would not describe the scored clips: re-score or restore it")
+    enrich_runs(runs, ps.index)
     controls = probe_set_controls()
     matrix = specificity_matrix(controls, probe_set_runs(ps, controls), n_boot=n_boot, balance=set_balance(ps))
     note = ("Controls computed from the probe set itself: " + ", ".join(c.name for c in controls) + ".")

@@ -9,6 +9,13 @@ beyond its declared knowledge, every model's verdict there becomes *confounded*,
 the control that did it (``voe.scoring.verdict.CONFOUNDED_RULE``). Concepts that declare no
 balanced design are confounded whatever the controls do. Works for any concept in a probe set,
 user-made ones included: it reads only the matrix.
+
+Random networks are scoped to their architecture (the model class, ``scope`` in the matrix). A random network reads its architecture's own
+input code (for the state models: per-slot memory of hidden objects, the constant-velocity
+guess, where screens are), so when random readouts of that code separate a probe's clips, what
+it shows is that *models of that architecture* can pass the probe without learning anything:
+their verdicts there are confounded. A model of another architecture (the oracle, the pixel
+model) does not read that code, and the probe's bytes stay balanced for it.
 """
 
 from __future__ import annotations
@@ -35,12 +42,25 @@ def _cell_text(r) -> str:
     return f"{r.control} {r.accuracy:.2f} [{r.ci_low:.2f}, {r.ci_high:.2f}]"
 
 
+def _off_chance(m: pd.DataFrame) -> pd.Series:
+    p2 = m["p_two_sided"] if "p_two_sided" in m.columns else pd.Series(0.0, index=m.index)
+    return ~((m["ci_low"] <= 0.5) & (0.5 <= m["ci_high"])) & p2.lt(ALPHA)
+
+
+def _verdict_cells(matrix: pd.DataFrame) -> pd.DataFrame:
+    return matrix[(matrix["condition"] == "all") | matrix["carries_verdict"].astype(bool)]
+
+
+def _scope(m: pd.DataFrame) -> pd.Series:
+    return m["scope"].fillna("").astype(str) if "scope" in m.columns else pd.Series("", index=m.index)
+
+
 def confounders(matrix: pd.DataFrame, no_balance: Iterable[str] = ()) -> pd.DataFrame:
     """Per concept x condition that carries a verdict (``all`` = the pooled verdict sets): the
-    controls that confound it. Columns: concept, condition, confounded, by."""
-    m = matrix[(matrix["condition"] == "all") | matrix["carries_verdict"].astype(bool)]
-    off = ~((m["ci_low"] <= 0.5) & (0.5 <= m["ci_high"])) & m.get("p_two_sided", pd.Series(0.0, index=m.index)).lt(ALPHA)
-    kf = m["family"].isin(KNOWLEDGE_FREE) & off
+    controls that confound it for every model (scoped controls excluded, see
+    ``scoped_confounders``). Columns: concept, condition, confounded, by."""
+    m = _verdict_cells(matrix)
+    kf = m["family"].isin(KNOWLEDGE_FREE) & _off_chance(m) & _scope(m).eq("")
     pp = m["family"].isin(PHYSICS_POOR) & m["verdict"].eq(LEARNED) & ~m["expected"].isin(("pass", "none"))
     bad = m[kf | pp]
     nb = set(no_balance)
@@ -53,6 +73,17 @@ def confounders(matrix: pd.DataFrame, no_balance: Iterable[str] = ()) -> pd.Data
     return pd.DataFrame(rows, columns=["concept", "condition", "confounded", "by"])
 
 
+def scoped_confounders(matrix: pd.DataFrame) -> dict[str, dict[str, str]]:
+    """model class -> {concept: why} from its random networks that are off chance."""
+    m = _verdict_cells(matrix)
+    m = m[m["family"].isin(KNOWLEDGE_FREE) & _off_chance(m) & _scope(m).ne("")]
+    out: dict[str, dict[str, list[str]]] = {}
+    for r in m.itertuples():
+        where = "" if r.condition == "all" else f"{r.condition}: "
+        out.setdefault(str(r.scope), {}).setdefault(r.concept, []).append(where + _cell_text(r))
+    return {a: {c: "; ".join(v) for c, v in d.items()} for a, d in out.items()}
+
+
 def confounded_concepts(conf: pd.DataFrame) -> dict[str, str]:
     """concept -> why, for concepts confounded on their pooled sets or on any verdict condition."""
     out: dict[str, list[str]] = {}
@@ -61,12 +92,19 @@ def confounded_concepts(conf: pd.DataFrame) -> dict[str, str]:
     return {c: " | ".join(dict.fromkeys(v)) for c, v in out.items()}
 
 
-def apply_confounding(summary: pd.DataFrame, conf: pd.DataFrame) -> pd.DataFrame:
+def apply_confounding(summary: pd.DataFrame, conf: pd.DataFrame,
+                      scoped: dict[str, dict[str, str]] | None = None,
+                      arch_of: dict[str, str] | None = None) -> pd.DataFrame:
     """Summary (model x concept) with ``verdict`` confounded where the probe cannot tell; the rule's
-    own verdict moves to ``raw_verdict`` and the control that confounds it to ``confounded_by``."""
+    own verdict moves to ``raw_verdict`` and the control that confounds it to ``confounded_by``.
+    ``scoped`` (``scoped_confounders``) applies to models whose class ``arch_of[model]`` is the
+    scope."""
     why = confounded_concepts(conf)
+    scoped, arch_of = scoped or {}, arch_of or {}
     out = summary.copy()
     out["raw_verdict"] = out["verdict"]
-    out["confounded_by"] = [why.get(c, "") for c in out["concept"]]
+    out["confounded_by"] = [
+        " | ".join(x for x in (why.get(c, ""), scoped.get(arch_of.get(m, ""), {}).get(c, "")) if x)
+        for m, c in zip(out["model"], out["concept"], strict=True)]
     out.loc[out["confounded_by"] != "", "verdict"] = CONFOUNDED
     return out

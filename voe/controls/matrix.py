@@ -81,6 +81,8 @@ def _cells(ctrl: Control, run: Run, n_boot: int, balance: pd.DataFrame | None) -
     cond, carries = set_conditions(sets)
     sets = sets.assign(condition=cond, carries=carries)
     constant = constant_concepts(run)
+    # a random network speaks for models of its own class only (voe.controls.confound)
+    scope = str(run.meta.get("model", {}).get("class", "")) if ctrl.family == "random-net" else ""
     groups = [(c, None, g[g["carries"]]) for c, g in sets.groupby("concept", sort=True)]
     groups += [(c, k, g) for (c, k), g in sets.groupby(["concept", "condition"], sort=True)]
     rows = []
@@ -91,7 +93,7 @@ def _cells(ctrl: Control, run: Run, n_boot: int, balance: pd.DataFrame | None) -
         expected = ctrl.expectation(concept, cond_)
         if cond_ and expected == "none" and carries_ and ctrl.expectation(concept) in INHERITED:
             expected = ctrl.expectation(concept)
-        rows.append({"control": ctrl.name, "family": ctrl.family, "concept": concept,
+        rows.append({"control": ctrl.name, "family": ctrl.family, "scope": scope, "concept": concept,
                      "condition": cond_ or "all", "carries_verdict": carries_,
                      "n_sets": len(acc), "accuracy": accuracy(acc), "ci_low": lo, "ci_high": hi,
                      "p_value": permutation_pvalue(acc), "p_two_sided": two_sided_pvalue(acc),

@@ -145,7 +145,10 @@ def run_controls(controls: Sequence[Control], probes: Path, setup: ControlSetup,
         todo.append((ctrl, Path(probes), setup, out))
     if jobs > 1 and len(todo) > 1:
         with progress(len(todo), f"controls ({jobs} at a time)", "control") as tick:
-            for name in parallel_map(_score_control, todo, jobs, tick, ahead=len(todo)):
+            # spawn, not fork: a forked worker inherits locks held by the parent's threads (torch's
+            # pool after the parent scored a model, a progress bar) and can wait on them forever
+            for name in parallel_map(_score_control, todo, jobs, tick, ahead=len(todo),
+                                     start_method="spawn"):
                 say(f"scored {name}")
         return runs
     for ctrl, _, _, out in todo:

@@ -44,20 +44,24 @@ def _downsample(x: np.ndarray) -> np.ndarray:
     return x.reshape(n, g, b, g, b).mean(axis=(2, 4)).reshape(n, g * g)
 
 
-def fit_logistic(X: np.ndarray, y: np.ndarray, l2: float = L2) -> tuple[np.ndarray, float, np.ndarray, np.ndarray]:
-    """Standardise ``X (n, d)`` and fit ``p(y=1|x)``; returns ``(w, b, mean, scale)``."""
-    mu, sd = X.mean(0), X.std(0) + 1e-6
-    Z = (X - mu) / sd  # (n, d)
+def fit_logistic(X: np.ndarray, n_pos: np.ndarray, n_neg: np.ndarray,
+                 l2: float = L2) -> tuple[np.ndarray, float, np.ndarray, np.ndarray]:
+    """Fit ``p(y=1|x)`` on distinct inputs ``X (u, d)`` seen ``n_pos`` times labelled 1 and
+    ``n_neg`` times labelled 0 (the same as one row per occurrence, but cheaper); inputs are
+    standardised with the occurrence-weighted mean and scale. Returns ``(w, b, mean, scale)``."""
+    n = n_pos + n_neg  # (u,)
+    N = float(n.sum())
+    mu = (n[:, None] * X).sum(0) / N
+    sd = np.sqrt((n[:, None] * (X - mu) ** 2).sum(0) / N) + 1e-6
+    Z = (X - mu) / sd  # (u, d)
     d = Z.shape[1]
 
     def loss(theta: np.ndarray) -> tuple[float, np.ndarray]:
         w, b = theta[:d], theta[d]
-        z = Z @ w + b  # (n,)
-        # mean of log(1 + e^z) - y z, stable
-        lz = np.logaddexp(0.0, z)
-        p = np.exp(z - lz)
-        g = (p - y) / len(y)
-        val = float((lz - y * z).mean() + 0.5 * l2 * w @ w)
+        z = Z @ w + b  # (u,)
+        lz = np.logaddexp(0.0, z)  # log(1 + e^z), stable
+        val = float((n * lz - n_pos * z).sum() / N + 0.5 * l2 * w @ w)
+        g = (n * np.exp(z - lz) - n_pos) / N  # (u,) d loss / d z
         return val, np.concatenate([Z.T @ g + l2 * w, [g.sum()]])
 
     res = minimize(loss, np.zeros(d + 1), jac=True, method="L-BFGS-B", options={"maxiter": 200})
@@ -93,8 +97,10 @@ def stress_traces(ps: ProbeSet, kind: str = "frame") -> StatTraces:
     for concept, rows, arrays in concept_chunks(ps):
         idx = ps.index.iloc[rows]
         B, T, H, W = arrays["frames"].shape
-        x = _inputs(arrays["frames"], kind).reshape(B * T, H * W)  # (B*T, H*W)
-        uniq, inv = np.unique(x, axis=0, return_inverse=True)  # identical inputs scored once
+        x = np.ascontiguousarray(_inputs(arrays["frames"], kind).reshape(B * T, H * W))  # (B*T, H*W)
+        rows_as_bytes = x.view(np.dtype((np.void, H * W))).ravel()  # (B*T,) one opaque item per input
+        _, first, inv = np.unique(rows_as_bytes, return_index=True, return_inverse=True)
+        uniq = x[first]  # (U, H*W) identical inputs are scored once
         inv = inv.reshape(B, T)
         feats = _downsample(uniq.reshape(-1, H, W))  # (U, g*g)
         y = (idx["role"].to_numpy() == "impossible").astype(np.float64)  # (B,)
@@ -106,9 +112,12 @@ def stress_traces(ps: ProbeSet, kind: str = "frame") -> StatTraces:
             test = fold == f
             if test.all():  # one set only: nothing to learn from, every clip ties
                 continue
-            u_train = inv[~test, first:].ravel()  # (n_train_frames,)
+            u_train = inv[~test, first:].ravel()  # (n_train_frames,) distinct-input ids
             y_train = np.repeat(y[~test], T - first)
-            w, b, mu, sd = fit_logistic(feats[u_train], y_train)
+            n_pos = np.bincount(u_train, weights=y_train, minlength=len(feats))
+            n_neg = np.bincount(u_train, weights=1 - y_train, minlength=len(feats))
+            seen = (n_pos + n_neg) > 0
+            w, b, mu, sd = fit_logistic(feats[seen], n_pos[seen], n_neg[seen])
             score_u = ((feats - mu) / sd) @ w + b  # (U,) one score per distinct input
             tr[test] = score_u[inv[test]]
         if kind == "step":

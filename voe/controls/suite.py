@@ -8,6 +8,7 @@ from pathlib import Path
 import pandas as pd
 
 from voe.controls.builtin import builtin_controls
+from voe.controls.check import enrich_runs
 from voe.controls.matrix import specificity_matrix
 from voe.controls.probe_runs import probe_set_runs, set_balance
 from voe.controls.run import ControlSetup, run_controls
@@ -88,6 +89,7 @@ def validate_suite(out: Path, work: Path, probes: Path | None = None, world: Pat
     scored = [c for c in controls if not c.model.startswith("stat:")]
     run_dirs = run_controls(scored, probes, setup, say, jobs=jobs)
     by_name = {c.name: load_run(d) for c, d in zip(scored, run_dirs, strict=True)}
+    enrich_runs(list(by_name.values()), ps.index)  # runs stored before the index had conditions
     say(f"computing {len(stats)} statistics of the probe set")
     by_name.update({c.name: r for c, r in zip(stats, probe_set_runs(ps, stats), strict=True)})
     runs = [by_name[c.name] for c in controls]

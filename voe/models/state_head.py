@@ -55,12 +55,13 @@ class StateHead(nn.Module):
         self.shape_gain = nn.Parameter(torch.zeros(()))
 
     def randomize(self, gen: torch.Generator) -> None:
-        """Random, non-zero gates and outlier weight (for random-network validity controls):
-        the Gaussian gets about half the mixture, so the network's random output matters."""
+        """A random outlier weight and presence bias (for random-network validity controls): the
+        Gaussian gets about half the mixture, so the network's random output matters. The gates
+        ``theta`` and ``shape_gain`` stay closed: opened, they would route the constant-velocity
+        guess and the remembered shape into the prediction, which is knowledge (inertia, shape
+        constancy), not a random function."""
         with torch.no_grad():
             self.outlier_theta.copy_(1.0 + 0.05 * torch.randn((), generator=gen))
-            self.theta.uniform_(-0.1, 0.1, generator=gen)
-            self.shape_gain.copy_(torch.randn((), generator=gen))
             self.presence_phi.copy_(0.01 * torch.randn((), generator=gen))
 
     def presence_bias(self) -> torch.Tensor:

@@ -92,14 +92,16 @@ def build_report(run_dirs: Sequence[str | Path], out: Path, title: str | None = 
         The summary table (one row per model x concept).
     """
     from voe.controls.check import check_probe_set
-    from voe.controls.confound import apply_confounding
+    from voe.controls.confound import apply_confounding, scoped_confounders
     from voe.report import figures as F
-    from voe.report.validity import control_blocks
+    from voe.report.validity import control_blocks, summary_sizing
 
     runs = load_runs(run_dirs)
     check = check_probe_set(runs[0].probes_path, runs[0].manifest_sha256,
-                            Path(validity) if validity is not None else None, n_boot=n_boot)
-    summary = apply_confounding(concept_table(runs, n_boot=n_boot, seed=seed), check.confounds)
+                            Path(validity) if validity is not None else None, n_boot=n_boot, runs=runs)
+    arch_of = {r.label: str(r.meta["model"].get("class", "")) for r in runs}
+    summary = apply_confounding(concept_table(runs, n_boot=n_boot, seed=seed), check.confounds,
+                                scoped_confounders(check.matrix) if not check.matrix.empty else {}, arch_of)
     conditions = condition_table(runs, n_boot=n_boot, seed=seed)
     concepts = sorted(summary["concept"].unique())
     title = title or f"voe report: {len(runs)} model(s) x {len(concepts)} concept(s)"
@@ -133,7 +135,7 @@ def build_report(run_dirs: Sequence[str | Path], out: Path, title: str | None = 
                 save_figure(F.example_filmstrip(by_label[model], frames[sid], sid), tmp / name)
                 films.append(R.Figure(name, f"filmstrip {sid}", f"{concept}: set {sid}, traces of {model}."))
         blocks = _blocks(title, runs, summary, conditions, concepts, looking, films, film_note, show_paths)
-        blocks[-2:-2] = control_blocks(check)
+        blocks[-2:-2] = [*control_blocks(check), R.Para(summary_sizing(summary))]
         if validity is not None:
             blocks[-2:-2] = _validity_blocks(Path(validity), tmp, check.confounds)
         check.matrix.to_csv(tmp / "controls.csv", index=False, float_format="%.6g")

@@ -178,6 +178,17 @@ def control_blocks(check) -> list[R.Block]:
     return b
 
 
+def summary_sizing(summary: pd.DataFrame) -> str:
+    """How many verdict sets a perfect score needs here (Holm over a model's concepts)."""
+    from voe.scoring.verdict import min_sets_decisive
+
+    m = int(summary.groupby("model").size().max())
+    need, have = min_sets_decisive(m), int(summary["n_sets"].min())
+    return (f"**Size.** With {m} concepts per model (Holm), a perfect score is decisive from {need} "
+            f"verdict-carrying sets per concept; the smallest concept here has {have}"
+            + (": too few for any verdict there to come out *learned*." if have < need else "."))
+
+
 def write_validity_report(matrix: pd.DataFrame, out: Path, provenance: dict, overwrite: bool = True,
                           confounds: pd.DataFrame | None = None) -> None:
     """Write ``matrix.csv``, ``confounds.csv``, ``validity.md``, ``validity.html``,

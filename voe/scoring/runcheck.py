@@ -17,6 +17,9 @@ from voe.errors import RunError
 
 MAX_FRAMES = 100_000
 ROLES = ("possible", "impossible")
+#: Set-level columns (``voe.scoring.table`` groups clips into sets by these).
+SET_COLUMNS = ("concept", "set_kind", "visible_violation", "n_distractors", "condition", "carries_verdict",
+               "confounded")
 
 
 def _text(df: pd.DataFrame, col: str, path: Path) -> None:
@@ -77,5 +80,7 @@ def check_clips(clips: pd.DataFrame, path: Path) -> None:
         roles = set(g["role"])
         if roles != set(ROLES):
             raise RunError(f"{path}: matched set {set_id!r} lacks {'possible' if 'possible' not in roles else 'impossible'} clips")
-        if g["concept"].nunique() != 1:
-            raise RunError(f"{path}: matched set {set_id!r} mixes concepts {sorted(g['concept'].unique())[:3]}")
+        for col in SET_COLUMNS:  # what a set is grouped by must not split it
+            if col in g.columns and g[col].nunique(dropna=False) != 1:
+                raise RunError(f"{path}: matched set {set_id!r} has clips with different '{col}' "
+                               f"({list(g[col].unique())[:3]})")

@@ -34,7 +34,8 @@ from voe.io.provenance import package_versions
 RUN_SCHEMA_VERSION = 1
 #: Index columns copied into ``clips.parquet`` (geometry is bulky and only models need it).
 CLIP_COLUMNS = ("clip_id", "concept", "concept_name", "set_id", "set_kind", "variant", "role",
-                "onset_frame", "seed", "visible_violation", "n_distractors", "params", "row")
+                "onset_frame", "seed", "visible_violation", "n_distractors", "condition", "carries_verdict",
+                "balance_claim", "confounded", "params", "row")
 SUMMARY_COLUMNS = ("sum", "max", "mean_post", "n_scored")
 #: ``run.json`` fields that may differ between runs with identical numbers (how they were run).
 VOLATILE_FIELDS = ("wall_time_s", "created_utc", "launcher", "clips_from_cache")

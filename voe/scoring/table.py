@@ -14,7 +14,7 @@ import pandas as pd
 from voe.scoring.metrics import accuracy, auroc, score_set, tie_atol
 from voe.scoring.runs import Run
 from voe.scoring.stats import bootstrap_ci, holm, permutation_pvalue
-from voe.scoring.verdict import verdict
+from voe.scoring.verdict import set_conditions, verdict
 
 SUMMARY_COLUMNS = ("model", "concept", "n_sets", "accuracy", "ci_low", "ci_high", "p_value", "p_holm",
                    "verdict", "note", "relative_surprise", "pair_acc_max", "auroc")
@@ -58,9 +58,10 @@ def concept_table(runs: Sequence[Run], n_boot: int = 10_000, seed: int = 0) -> p
     rows = []
     for run in runs:
         sets = set_table(run)
+        sets = sets[set_conditions(sets)[1]]  # a perceptual condition carries no verdict
         start = len(rows)
         for concept, grp in sets.groupby("concept", sort=True):
-            clips = run.clips[run.clips["concept"] == concept]
+            clips = run.clips[run.clips["set_id"].isin(grp["set_id"])]
             rows.append({"model": run.label, "concept": concept, **_cell(grp, n_boot, seed),
                          "p_value": permutation_pvalue(grp["accuracy"].to_numpy(), seed=seed),
                          "relative_surprise": float(np.nanmean(grp["relative"])) if grp["relative"].notna().any() else float("nan"),
@@ -80,7 +81,7 @@ def condition_table(runs: Sequence[Run], n_boot: int = 10_000, seed: int = 0) ->
     rows = []
     for run in runs:
         sets = set_table(run)
-        sets["visibility"] = np.where(sets["visible_violation"].astype(bool), "visible", "occluded")
+        sets["visibility"] = set_conditions(sets)[0]  # visible / occluded / perceptual
         sets["distractors"] = sets["n_distractors"].astype(int).map(lambda k: f"{k} distractor{'' if k == 1 else 's'}")
         for kind in ("visibility", "distractors"):
             for concept, per_concept in [*sets.groupby("concept", sort=True), ("all", sets)]:
