@@ -49,8 +49,8 @@ def load_scene(path: str | Path) -> tuple[SceneSpec, list[dict[str, Any]], dict[
     names = [b.name for b in bodies]
     if len(set(names)) != len(names):
         raise DataError(f"scene file {path} has duplicate body names: {names}")
-    statics = tuple(_static(s, i, path) for i, s in enumerate(raw.get("statics", []) or []))
-    joints = list(raw.get("joints", []) or [])
+    statics = tuple(_static(s, i, path) for i, s in enumerate(_list(raw, "statics", path)))
+    joints = _list(raw, "joints", path)
     for i, j in enumerate(joints):
         if not isinstance(j, dict):
             raise DataError(f"scene file {path}: joint {i} must be an object, got {j!r:.60}")
@@ -61,6 +61,8 @@ def load_scene(path: str | Path) -> tuple[SceneSpec, list[dict[str, Any]], dict[
         if "anchor" not in j and not ("anchor_a" in j and "anchor_b" in j):
             raise DataError(f"scene file {path}: joint {i} needs 'anchor' or both 'anchor_a' and 'anchor_b'")
     initial = raw.get("initial") or {}
+    if not isinstance(initial, dict):
+        raise DataError(f"scene file {path}: 'initial' must be an object of poses by body name")
     for name in initial:
         if name not in names:
             raise DataError(f"scene file {path}: 'initial' names unknown body {name!r}; bodies are {names}")
@@ -140,7 +142,17 @@ def _body(b: dict, i: int, path: Path) -> BodySpec:
                     elasticity=_num(b, "elasticity", where, path, 0.0), **kw)
 
 
+def _list(raw: dict[str, Any], key: str, path: Path) -> list[Any]:
+    """``raw[key]`` as a list (absent or null: empty); anything else is refused naming the key."""
+    value = raw.get(key) or []
+    if not isinstance(value, list):
+        raise DataError(f"scene file {path}: '{key}' must be a list, got {type(value).__name__}")
+    return value
+
+
 def _static(s: dict, i: int, path: Path) -> StaticSpec:
+    if not isinstance(s, dict):
+        raise DataError(f"scene file {path}: static {i} must be an object, got {s!r:.60}")
     where = f"static {i}"
     if s.get("shape", "segment") != "segment":
         raise DataError(f"scene file {path}: {where} has shape {s.get('shape')!r}; only 'segment' is supported")

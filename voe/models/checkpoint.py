@@ -52,6 +52,11 @@ def read_checkpoint(path: Path) -> dict[str, Any]:
         raise CheckpointError(f"{cfg} is not valid JSON: {exc}") from exc
     if not isinstance(meta, dict) or meta.get("format") != FORMAT or "model" not in meta or "config" not in meta:
         raise CheckpointError(f"{cfg} is not a {FORMAT} checkpoint config")
+    if not isinstance(meta["model"], str) or not isinstance(meta["config"], dict):
+        raise CheckpointError(f"{cfg}: 'model' must be a string and 'config' an object (got "
+                              f"{type(meta['model']).__name__} and {type(meta['config']).__name__})")
+    if not all(isinstance(k, str) for k in meta["config"]):
+        raise CheckpointError(f"{cfg}: 'config' keys must be strings")
     return meta
 
 
