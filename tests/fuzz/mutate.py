@@ -13,7 +13,9 @@ from __future__ import annotations
 import io
 import json
 import math
+import shutil
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -213,3 +215,13 @@ def damaged_array(draw: st.DrawFn, base: np.ndarray) -> bytes:
     np.save(buf, a, allow_pickle=False)
     data = buf.getvalue()
     return draw(damaged_bytes(data)) if kind == "bytes" else data
+
+
+def lay_out(files: dict[str, bytes], d: Path) -> Path:
+    """Write ``files`` (relative path -> bytes) into a fresh folder ``d`` and return it."""
+    shutil.rmtree(d, ignore_errors=True)
+    d.mkdir(parents=True)
+    for rel, data in files.items():
+        (d / rel).parent.mkdir(parents=True, exist_ok=True)
+        (d / rel).write_bytes(data)
+    return d

@@ -26,11 +26,6 @@ SCENE = {"units": {"length": "m"}, "gravity": [0, -9.81],
 
 
 @pytest.fixture(scope="module")
-def scratch(tmp_path_factory) -> Path:
-    return tmp_path_factory.mktemp("fuzz")
-
-
-@pytest.fixture(scope="module")
 def recordings():
     scene, eps = flight_episodes(n=2, duration=0.3)
     sp_path = Path(__file__).parent / "_unused"

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import shutil
 from pathlib import Path
 
 import pytest
@@ -13,7 +12,7 @@ from hypothesis import strategies as st
 from voe.controls.spec import load_user_controls
 from voe.models.loading import load_model
 
-from .mutate import FUZZ, damaged_bytes, damaged_doc, damaged_json, json_values, only_voe_errors
+from .mutate import FUZZ, damaged_bytes, damaged_doc, damaged_json, json_values, lay_out, only_voe_errors
 
 CONTROLS = {"controls": [{"name": "mine", "model": "constvel", "args": {"sigma": 0.1}, "checkpoint": "ck",
                           "should_fail": ["solidity"], "should_pass": ["permanence", "gravity"],
@@ -33,18 +32,8 @@ def checkpoint(tmp_path_factory) -> dict[str, bytes]:
     return {p.name: p.read_bytes() for p in (root / "ck").iterdir()}
 
 
-@pytest.fixture(scope="module")
-def scratch(tmp_path_factory) -> Path:
-    return tmp_path_factory.mktemp("fuzz")
-
-
 def _use(files: dict[str, bytes], root: Path) -> None:
-    d = root / "ck"
-    shutil.rmtree(d, ignore_errors=True)
-    d.mkdir()
-    for name, data in files.items():
-        (d / name).write_bytes(data)
-    load_model("mlp", None, d)
+    load_model("mlp", None, lay_out(files, root / "ck"))
 
 
 def test_base_checkpoint_loads(checkpoint, scratch):

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import shutil
 from pathlib import Path
 
 import pandas as pd
@@ -23,6 +22,7 @@ from .mutate import (
     damaged_bytes,
     damaged_frame,
     damaged_json,
+    lay_out,
     only_voe_errors,
     parquet_bytes,
 )
@@ -36,18 +36,8 @@ def base(tmp_path_factory) -> dict[str, bytes]:
     return {p.relative_to(out).as_posix(): p.read_bytes() for p in sorted(out.rglob("*")) if p.is_file()}
 
 
-@pytest.fixture(scope="module")
-def scratch(tmp_path_factory) -> Path:
-    return tmp_path_factory.mktemp("fuzz")
-
-
 def _write(root: Path, files: dict[str, bytes]) -> Path:
-    d = root / "set"
-    shutil.rmtree(d, ignore_errors=True)
-    for rel, data in files.items():
-        (d / rel).parent.mkdir(parents=True, exist_ok=True)
-        (d / rel).write_bytes(data)
-    return d
+    return lay_out(files, root / "set")
 
 
 def use(path: Path) -> None:

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import shutil
 from pathlib import Path
 
 import pandas as pd
@@ -19,7 +18,7 @@ from voe.scoring.table import concept_table
 from voe.sim.scene import SimConfig
 from voe.testing import RandomModel
 
-from .mutate import FUZZ, damaged_bytes, damaged_frame, damaged_json, only_voe_errors, parquet_bytes
+from .mutate import FUZZ, damaged_bytes, damaged_frame, damaged_json, lay_out, only_voe_errors, parquet_bytes
 
 
 @pytest.fixture(scope="module")
@@ -32,18 +31,8 @@ def base(tmp_path_factory) -> dict[str, bytes]:
     return {p.name: p.read_bytes() for p in out.iterdir()}
 
 
-@pytest.fixture(scope="module")
-def scratch(tmp_path_factory) -> Path:
-    return tmp_path_factory.mktemp("fuzz")
-
-
 def use(files: dict[str, bytes], root: Path) -> None:
-    d = root / "run"
-    shutil.rmtree(d, ignore_errors=True)
-    d.mkdir()
-    for name, data in files.items():
-        (d / name).write_bytes(data)
-    concept_table(load_runs([d]), n_boot=20)
+    concept_table(load_runs([lay_out(files, root / "run")]), n_boot=20)
 
 
 def test_base_is_readable(base, scratch):

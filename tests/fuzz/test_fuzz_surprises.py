@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import io
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -27,11 +26,6 @@ def base(tiny_probes):
     table = pd.DataFrame({"clip_key": np.repeat(keys, 3), "frame": np.tile([0, T // 2, T - 1], len(keys)),
                           "surprise": rng.random(3 * len(keys))})
     return keys, T, table
-
-
-@pytest.fixture(scope="module")
-def scratch(tmp_path_factory) -> Path:
-    return tmp_path_factory.mktemp("fuzz")
 
 
 def test_base_table_reads(base, scratch):
