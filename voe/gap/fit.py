@@ -105,18 +105,18 @@ class Fitter:
 
     def standardized(self, effect: Effect | None, params: np.ndarray | None) -> np.ndarray:
         """Training residuals divided by their expected size, flattened."""
-        parts = [(self.shooter.residual(w, effect, params) * wt).reshape(-1)
-                 for w, wt in zip(self.train, self._weights, strict=True)]
+        parts = [(r * wt).reshape(-1)
+                 for r, wt in zip(self.shooter.residuals(self.train, effect, params), self._weights, strict=True)]
         out = np.concatenate(parts)
         return np.nan_to_num(out, nan=1e6, posinf=1e6, neginf=-1e6)
 
     def heldout(self, effect: Effect | None, params: np.ndarray | None) -> float:
         """Held-out RMSE in metres (x, y and angle times sqrt(I/m))."""
-        return rmse([self.shooter.residual(w, effect, params) for w in self.test])
+        return rmse(self.shooter.residuals(self.test, effect, params))
 
     def heldout_sse(self, effect: Effect | None, params: np.ndarray | None) -> np.ndarray:
         """(W,) held-out sum of squared residuals per window (for the paired bootstrap)."""
-        return np.array([float(np.sum(self.shooter.residual(w, effect, params) ** 2)) for w in self.test])
+        return np.array([float(np.sum(r**2)) for r in self.shooter.residuals(self.test, effect, params)])
 
     def cost(self, effect: Effect | None, params: np.ndarray | None) -> float:
         z = self.standardized(effect, params)
