@@ -20,11 +20,24 @@ import math
 from collections.abc import Callable
 
 import numpy as np
-from pymunk._chipmunk import lib
+import pymunk.batch
+from pymunk._chipmunk import ffi, lib
 
 from voe.sim.scenefile import SimState, SimWorld
 
 StackedForce = Callable[[SimState], tuple[np.ndarray, np.ndarray]]
+
+_F = pymunk.batch.BodyFields
+_POSE = (_F.POSITION | _F.ANGLE).value  # per body: x, y, angle
+_STATE = (_F.POSITION | _F.ANGLE | _F.VELOCITY | _F.ANGULAR_VELOCITY).value  # x, y, angle, vx, vy, omega
+_GET = ffi.addressof(lib, "pmSpaceBodyGetIteratorFuncBatched")
+_BUFFERS: list[pymunk.batch.Buffer] = []  # reused: pymunk never frees a Buffer's C arrays
+_TOUCH = [False]
+
+
+@ffi.callback("void(cpBody *, cpArbiter *, void *)")
+def _on_arbiter(body: object, arb: object, data: object) -> None:
+    _TOUCH[0] = True
 
 
 def schedule(times: np.ndarray, substep: float) -> tuple[list[float], list[int]]:
@@ -70,23 +83,28 @@ def run_lockstep(worlds: list[SimWorld], times: list[np.ndarray], substep: float
     for w in worlds:
         _check_steppable(w)
     nw = len(worlds)
+    if not nw:
+        return []
     plans = [schedule(np.asarray(t, dtype=float), substep) for t in times]
     hs = [h for h, _ in plans]
     lengths = [len(h) for h in hs]
-    outs = [np.empty((len(t), len(w.bodies), 3)) for w, t in zip(worlds, times, strict=True)]
-    for w, o in zip(worlds, outs, strict=True):
-        o[0] = _pose(w)
-    record: dict[int, list[tuple[int, int]]] = {}  # substep index -> (world, sample) recorded after it
+    rows = _rows(worlds)
+    bufs = _buffers(nw + 1)  # one per world's poses, one for the kicks' states
+    poses = [_Reader(w.space, b, _POSE) for w, b in zip(worlds, bufs, strict=False)]
+    for r in poses:
+        r.reset()
+        r.read()  # the start pose
+    record: dict[int, list[int]] = {}  # substep index -> worlds that record a sample after it
     for i, (_, ends) in enumerate(plans):
-        for k, e in enumerate(ends, start=1):
-            record.setdefault(e - 1, []).append((i, k))
+        for e in ends:
+            record.setdefault(e - 1, []).append(i)
     order = sorted(range(nw), key=lambda i: -lengths[i])  # worlds still stepping are a prefix of this
     active = [(worlds[i].space._space, hs[i]) for i in order]  # noqa: SLF001
     ends_at = [lengths[i] for i in order]
     k_kick = max(1, round(kick_every / substep))
-    kick = _Kick(worlds, force) if force is not None else None
+    kick = _Kick(worlds, force, bufs[nw], rows) if force is not None else None
     step = lib.cpSpaceStep
-    for j in range(max(lengths, default=0)):
+    for j in range(max(lengths)):
         while ends_at[-1] <= j:  # the shortest window is done
             ends_at.pop()
             active.pop()
@@ -96,17 +114,59 @@ def run_lockstep(worlds: list[SimWorld], times: list[np.ndarray], substep: float
             step(space, h[j])
         done = record.get(j)
         if done:
-            for i, k in done:
-                outs[i][k] = _pose(worlds[i])
-    return outs
+            for i in done:
+                poses[i].read()
+    nb = len(worlds[0].bodies)
+    return [r.array(rows, 3)[:, :nb].copy() for r in poses]
 
 
-def _pose(world: SimWorld) -> np.ndarray:
-    out = np.empty((len(world.bodies), 3))
-    for b, row in zip(world.bodies, out, strict=True):
-        p = lib.cpBodyGetPosition(b._body)  # noqa: SLF001
-        row[0], row[1], row[2] = p.x, p.y, lib.cpBodyGetAngle(b._body)  # noqa: SLF001
-    return out
+def _buffers(n: int) -> list[pymunk.batch.Buffer]:
+    while len(_BUFFERS) < n:
+        _BUFFERS.append(pymunk.batch.Buffer())
+    return _BUFFERS[:n]
+
+
+class _Reader:
+    """Appends fields of every body of one space to a C array, one C call per read."""
+
+    def __init__(self, space: pymunk.Space, buf: pymunk.batch.Buffer, fields: int) -> None:
+        self.space, self.arr = space._space, buf._float_arr  # noqa: SLF001
+        self.data = ffi.new("pmBatchedData *")
+        self.data.fields = fields
+        self.data.floatArray, self.data.intArray = buf._float_arr, buf._int_arr  # noqa: SLF001
+
+    def reset(self) -> None:
+        self.arr.num = 0
+
+    def read(self) -> None:
+        lib.cpSpaceEachBody(self.space, _GET, self.data)
+
+    def array(self, rows: int, width: int) -> np.ndarray:
+        """What was read since ``reset``: (reads, rows, width), a view of the C array."""
+        return np.frombuffer(ffi.buffer(self.arr.arr, 8 * self.arr.num)).reshape(-1, rows, width)
+
+
+def _rows(worlds: list[SimWorld]) -> int:
+    """Bodies ``cpSpaceEachBody`` visits per space (the dynamic bodies, in ``world.bodies`` order,
+    then static ones), checked once per world against the bodies' ids and once against their
+    getters, so a pymunk whose batch layout differs fails loudly instead of mixing up bodies."""
+    buf = _buffers(1)[0]
+    counts = set()
+    for w in worlds:
+        r = _Reader(w.space, buf, (_F.BODY_ID | _F.POSITION | _F.ANGLE | _F.VELOCITY | _F.ANGULAR_VELOCITY).value)
+        r.reset()
+        buf._int_arr.num = 0  # noqa: SLF001
+        r.read()
+        ids = list(memoryview(buf.int_buf()).cast("P"))
+        if ids[:len(w.bodies)] != [b.id for b in w.bodies]:
+            raise RuntimeError("lockstep: pymunk visits a space's bodies in an unexpected order")
+        counts.add(len(ids))
+    b = worlds[-1].bodies[0]  # the last world read is what the buffer holds
+    if r.array(len(ids), 6)[0, 0].tolist() != [*b.position, b.angle, *b.velocity, b.angular_velocity]:
+        raise RuntimeError("lockstep: pymunk's batch layout is not x, y, angle, vx, vy, omega")
+    if len(counts) != 1:
+        raise RuntimeError("lockstep: the worlds do not hold the same bodies")
+    return counts.pop()
 
 
 class _Kick:
@@ -116,40 +176,47 @@ class _Kick:
     body's velocity is written only where its force (or torque) is non-zero.
     """
 
-    def __init__(self, worlds: list[SimWorld], force: StackedForce) -> None:
-        self.force = force
-        self.bodies = [b for w in worlds for b in w.bodies]
-        self.ptrs = [b._body for b in self.bodies]  # noqa: SLF001
+    def __init__(self, worlds: list[SimWorld], force: StackedForce, buf: pymunk.batch.Buffer, rows: int) -> None:
+        self.force, self.rows = force, rows
+        self.readers = [_Reader(w.space, buf, _STATE) for w in worlds]
+        self.ptrs = [b._body for w in worlds for b in w.bodies]  # noqa: SLF001
         self.per_world = len(worlds[0].bodies)
         self.mass = np.concatenate([w._mass for w in worlds])  # noqa: SLF001  # (W*B,)
         self.moment = np.concatenate([w._moment for w in worlds])  # noqa: SLF001
         self.gravity = worlds[0]._gravity  # noqa: SLF001
+        self._touching: np.ndarray | None = None
 
     def _contact(self) -> np.ndarray:
-        out = np.zeros(len(self.bodies), dtype=bool)
-        for i, b in enumerate(self.bodies):
-            hits: list[int] = []
-            b.each_arbiter(lambda arb, h=hits: h.append(1))
-            out[i] = bool(hits)
-        return out
+        """(W*B,) bool: the body has an arbiter (touches something); computed once per kick."""
+        if self._touching is None:
+            out = np.zeros(len(self.ptrs), dtype=bool)
+            each = lib.cpBodyEachArbiter
+            for i, ptr in enumerate(self.ptrs):
+                _TOUCH[0] = False
+                each(ptr, _on_arbiter, ffi.NULL)
+                out[i] = _TOUCH[0]
+            self._touching = out
+        return self._touching.copy()
 
     def __call__(self, dt_world: list[float]) -> None:
-        n = len(self.ptrs)
-        raw = np.empty((n, 6))
-        get_p, get_v, get_a, get_w = lib.cpBodyGetPosition, lib.cpBodyGetVelocity, lib.cpBodyGetAngle, \
-            lib.cpBodyGetAngularVelocity
-        for ptr, row in zip(self.ptrs, raw, strict=True):
-            p, v = get_p(ptr), get_v(ptr)
-            row[0], row[1], row[2], row[3], row[4], row[5] = p.x, p.y, v.x, v.y, get_a(ptr), get_w(ptr)
-        vel = raw[:, 2:4]  # (N, 2)
-        st = SimState(raw[:, 0:2], vel, raw[:, 4], raw[:, 5], self.mass, self.moment, self.gravity, self._contact)
+        self.readers[0].reset()
+        for r in self.readers:
+            r.read()
+        raw = self.readers[0].array(self.rows, 6)[:, :self.per_world].reshape(-1, 6).copy()  # (N, 6)
+        vel = raw[:, 3:5]  # (N, 2)
+        self._touching = None
+        st = SimState(raw[:, 0:2], vel, raw[:, 2], raw[:, 5], self.mass, self.moment, self.gravity, self._contact)
         f, tau = self.force(st)  # (N, 2), (N,)
         dt = np.repeat(np.asarray(dt_world, dtype=float), self.per_world)  # (N,)
-        v_new = (vel + f * (dt / self.mass)[:, None]).tolist()  # (N, 2)
-        w_new = (st.omega + tau * dt / self.moment).tolist()  # (N,)
-        set_v, set_w = lib.cpBodySetVelocity, lib.cpBodySetAngularVelocity
-        for ptr, v, w, fb, tb in zip(self.ptrs, v_new, w_new, f.tolist(), tau.tolist(), strict=True):
-            if fb[0] or fb[1]:
-                set_v(ptr, v)
-            if tb:
-                set_w(ptr, w)
+        if f.any():
+            set_v = lib.cpBodySetVelocity
+            v_new = (vel + f * (dt / self.mass)[:, None]).tolist()  # (N, 2)
+            for ptr, v, fb in zip(self.ptrs, v_new, f.tolist(), strict=True):
+                if fb[0] or fb[1]:
+                    set_v(ptr, v)
+        if tau.any():
+            set_w = lib.cpBodySetAngularVelocity
+            w_new = (st.omega + tau * dt / self.moment).tolist()  # (N,)
+            for ptr, w, tb in zip(self.ptrs, w_new, tau.tolist(), strict=True):
+                if tb:
+                    set_w(ptr, w)
