@@ -178,3 +178,29 @@ def test_flight_regression_on_top_of_an_accepted_region_effect():
     lo, hi = cand.bounds(ctx)
     out = prefit_starts(cand, cand.starts(ctx), lo, hi, cand.scale(ctx), ctx.flight, scene, cur, np.array([0.3, 0.0, 1.0]))
     assert out and abs(out[0][0] - 0.3) < 0.1
+
+
+def test_restitution_region_changes_bounces_only_inside_its_interval():
+    from voe.gap.synth import simulate_episode
+    from voe.sim.scenefile import StaticSpec
+
+    scene = SceneSpec((0.0, -9.81), (BodySpec("ball", "circle", mass=1.0, radius=0.1, elasticity=0.8),),
+                      (StaticSpec((-5.0, 0.0), (5.0, 0.0), 0.0, 0.5, 1.0),))
+    eff = EFFECTS.get("restitution_region")()
+    ctx = context_for(scene, [Episode(0, np.array([0.0, 1.0]), np.zeros((2, 1, 3)))])
+    assert eff.nominal(ctx)[0] == 1.0 and not eff.has_forces and eff.acts == "region"
+    t = np.arange(151) / 100
+    rng = np.random.default_rng(0)
+
+    def peak(x: float, params: np.ndarray | None) -> float:  # highest point after the first bounce
+        e = None if params is None else eff
+        pose = simulate_episode(scene, 0, t, np.array([[x, 1.0, 0.0]]), np.zeros((1, 3)), e, params,
+                                np.zeros((1, 3)), rng).pose
+        return float(pose[60:, 0, 1].max())
+
+    free = peak(0.0, None)
+    assert peak(0.0, np.array([0.3, -0.5, 0.5])) < 0.5 * free  # inside the patch: a dead bounce
+    assert peak(2.0, np.array([0.3, -0.5, 0.5])) == pytest.approx(free, abs=1e-9)  # outside: unchanged
+    assert peak(0.0, np.array([1.0, -0.5, 0.5])) == pytest.approx(free, abs=1e-6)  # nominal: unchanged
+    both = (EFFECTS.get("linear_drag")() + eff).materials(np.array([0.0, 0.3, -0.5, 0.5]), scene)
+    assert both.region_elasticity == (0.3, -0.5, 0.5)

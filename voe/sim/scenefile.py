@@ -128,6 +128,9 @@ class Materials:
     friction: tuple[float | None, ...] | None = None
     elasticity: tuple[float | None, ...] | None = None
     mass_scale: tuple[float, ...] | None = None
+    # (e, x0, x1): static surfaces have elasticity e at contact points with x0 <= x <= x1
+    # (edges smoothed over 1 cm), set per contact (``voe.gap.effects.restitution_region``)
+    region_elasticity: tuple[float, float, float] | None = None
 
 
 class SimWorld:
@@ -165,7 +168,10 @@ class SimWorld:
         for st in scene.statics:
             seg = pymunk.Segment(self.space.static_body, st.a, st.b, st.radius)
             seg.friction, seg.elasticity = st.friction, st.elasticity
+            seg.collision_type = _STATIC
             self.space.add(seg)
+        if mat.region_elasticity is not None:
+            self.space.on_collision(_STATIC, None, pre_solve=_region_restitution(*mat.region_elasticity))
         index = {n: i for i, n in enumerate(scene.names)}
         for js in scene.joints:
             other = self.space.static_body if js.b is None else self.bodies[index[js.b]]
@@ -237,6 +243,26 @@ class SimWorld:
                 b.velocity = (v.x + dvx, v.y + dvy)
             if w:
                 b.angular_velocity = b.angular_velocity + w
+
+
+_STATIC = 1  # collision type of static segments
+
+
+def _region_restitution(e: float, x0: float, x1: float) -> Callable:
+    """pre_solve callback: restitution of a contact with a static segment, blended from the
+    segment's elasticity to ``e`` inside [x0, x1] (smooth edges keep a fit of x0, x1 smooth)."""
+
+    def pre(arb: pymunk.Arbiter, space: pymunk.Space, data: object) -> None:
+        seg, other = arb.shapes
+        pts = arb.contact_point_set.points
+        if not pts:
+            return
+        x = pts[0].point_a.x
+        w = 1.0 / (1.0 + math.exp(-max(-50.0, min(50.0, (x - x0) / 0.01))))
+        w /= 1.0 + math.exp(-max(-50.0, min(50.0, (x1 - x) / 0.01)))
+        arb.restitution = other.elasticity * (seg.elasticity + w * (e - seg.elasticity))
+
+    return pre
 
 
 def _pick(values: tuple[float | None, ...] | None, i: int, default: float) -> float:

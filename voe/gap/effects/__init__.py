@@ -20,6 +20,7 @@ EFFECTS.register("joint_damping", "voe.gap.effects.joint:JointDamping")
 EFFECTS.register("joint_friction", "voe.gap.effects.joint:JointFriction")
 EFFECTS.register("friction_region", "voe.gap.effects.region:FrictionRegion")
 EFFECTS.register("rolling_resistance_region", "voe.gap.effects.region:RollingResistanceRegion")
+EFFECTS.register("restitution_region", "voe.gap.effects.restitution_region:RestitutionRegion")
 EFFECTS.register("none", "voe.gap.effects.none:NoEffect")
 
 __all__ = ["EFFECTS"]

@@ -237,8 +237,10 @@ class EffectSum(Effect):
 
     def materials(self, params: np.ndarray, scene: SceneSpec) -> Materials:
         fr, el, ms = [None] * len(scene.bodies), [None] * len(scene.bodies), np.ones(len(scene.bodies))
+        region = None
         for e, p in zip(self._parts, self.split(params), strict=True):
             m = e.materials(p, scene)
+            region = m.region_elasticity if m.region_elasticity is not None else region
             for i in range(len(scene.bodies)):
                 if m.friction and m.friction[i] is not None:
                     fr[i] = m.friction[i]
@@ -246,7 +248,7 @@ class EffectSum(Effect):
                     el[i] = m.elasticity[i]
             if m.mass_scale:
                 ms = ms * np.asarray(m.mass_scale)
-        return Materials(tuple(fr), tuple(el), tuple(float(x) for x in ms))
+        return Materials(tuple(fr), tuple(el), tuple(float(x) for x in ms), region)
 
     def starts(self, ctx: FitContext) -> list[np.ndarray]:
         out = [np.zeros(0)]

@@ -7,8 +7,8 @@ finder once said "agree" next to a located mismatch. These effects name the patc
 parameters are the strength and the interval [x0, x1] in which it acts (edges smoothed over
 ``EDGE`` so the fit stays smooth). Both act only while a body touches something. Friction is
 modelled as an extra Coulomb force against the contact point's slip (for a circle, the point
-below its centre; otherwise the centre's velocity), with the matching torque on a circle; a
-region-limited restitution would need a per-contact callback in the simulator and is not here.
+below its centre; otherwise the centre's velocity), with the matching torque on a circle. The
+region-limited restitution is ``voe.gap.effects.restitution_region`` (set per contact).
 """
 
 from __future__ import annotations
