@@ -36,6 +36,8 @@ OUT = 18  # presence, 6 mean corrections, 9 log-variances, shape, exist correcti
 
 @dataclass(frozen=True)
 class InteractionConfig:
+    """Width of every MLP and the seed of the initial weights."""
+
     hidden: int = 96
     seed: int = 0
 
@@ -50,13 +52,17 @@ class RolloutHead(StateHead):
     ``mean_f = c_f + g_f * (guess_f - c_f) + correction`` where ``guess`` is the slot state moved
     one Euler step by its own velocity (for x, y, angle) and the state itself otherwise, and
     ``g = GAIN * theta`` starts at zero: an untrained or random network predicts the typical state
-    whatever it saw. The predicted variance is the network's one-step variance plus ``g^2`` times
-    the carried variance, so along a hidden rollout the variance accumulates with the gates the
-    model learned (a Kalman-style prediction step).
+    whatever it saw. The predicted variance is the network's one-step variance plus the carried
+    variance pushed through the gated step (``step_logvar``), so along a hidden rollout the variance
+    accumulates with the gates the model learned (a Kalman-style prediction step).
+
+    The gains only speed up learning (a whole-clip step is costly, so there are few of them); they
+    change nothing at initialisation, where every gated parameter is zero.
     """
 
-    GAIN = 10.0  # a gate opens in ~50 Adam steps: a whole-clip step is costly, there are few
+    GAIN = 10.0  # a gate opens in ~50 Adam steps
     LV_GAIN = 20.0  # likewise for the one-step log-variance's per-feature offset
+    OUTLIER_GAIN = 5.0  # the outlier weight falls from ~1 in ~70 Adam steps instead of ~350
 
     def __init__(self) -> None:
         super().__init__()
@@ -65,8 +71,6 @@ class RolloutHead(StateHead):
         self.lv_bias = nn.Parameter(torch.zeros(9))  # per-feature log-variance offset, x LV_GAIN
         self.presence_screen = nn.Linear(2, 1, bias=False)  # covered / outside at the predicted state
         nn.init.zeros_(self.presence_screen.weight)
-
-    OUTLIER_GAIN = 5.0  # the outlier weight falls from ~1 in ~70 Adam steps instead of ~350
 
     def log_outlier(self) -> tuple[torch.Tensor, torch.Tensor]:
         z = W0 - 20.0 * self.OUTLIER_GAIN * self.outlier_theta
@@ -86,7 +90,6 @@ class RolloutHead(StateHead):
         moved = cont[..., 0:3] + dt[:, None, None] * cont[..., 3:6]
         guess = torch.cat([moved, cont[..., 3:], exist[..., None]], -1)
         return self.c + self.gates() * (guess - self.c)
-
 
     def step_logvar(self, lv_step: torch.Tensor, lv: torch.Tensor, dt: torch.Tensor) -> torch.Tensor:
         """Log-variance ``(B, K, 9)`` of the prediction: the network's one-step variance plus the
