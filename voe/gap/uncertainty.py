@@ -21,6 +21,9 @@ from voe.gap.shooting import Shooter, Window
 
 N_BOOT = 400
 LEVEL = 0.95
+INFLATE = 1.0  # calibrated below (bench/gap_coverage.py on dev seeds)
+TOL = 0.01  # parameter scales: the fit's own tolerance (voe.gap.fit, xatol / Powell xtol)
+BY_EPISODE = False
 
 
 def intervals(shooter: Shooter, sigma: np.ndarray, windows: list[Window], effect: Effect, params: np.ndarray,
@@ -33,10 +36,19 @@ def intervals(shooter: Shooter, sigma: np.ndarray, windows: list[Window], effect
     whether each part is needed at all is what the refit without it decides
     (``voe.gap.check``).
     """
+    terms = window_terms(shooter, sigma, windows, effect, params, ctx, f_scale)
+    return bootstrap(terms, effect, params, ctx, seed)
+
+
+def window_terms(shooter: Shooter, sigma: np.ndarray, windows: list[Window], effect: Effect, params: np.ndarray,
+                 ctx: FitContext, f_scale: float = 3.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per-window Gauss-Newton curvature (W, P, P), gradient (W, P) and episode index (W,) of
+    the soft-L1 cost at ``params`` (finite differences, one extra rollout per window and
+    parameter); windows whose prediction is not finite are left out."""
     lo_b, hi_b = effect.bounds(ctx)
     scale = effect.scale(ctx)
     n_p = len(params)
-    h_list, g_list = [], []
+    h_list, g_list, e_list = [], [], []
     for w in windows:
         wt = 1.0 / shooter.sigma_pred(w, sigma)  # (n, B, 3)
         r0 = (shooter.residual(w, effect, params) * wt).reshape(-1)
@@ -54,33 +66,72 @@ def intervals(shooter: Shooter, sigma: np.ndarray, windows: list[Window], effect
         jw = jac * irls[:, None]
         h_list.append(jw.T @ jac)
         g_list.append(jw.T @ r0)
+        e_list.append(w.ep)
     if not h_list:
+        return np.zeros((0, n_p, n_p)), np.zeros((0, n_p)), np.zeros(0, dtype=int)
+    return np.stack(h_list), np.stack(g_list), np.array(e_list)
+
+
+def bootstrap(terms: tuple[np.ndarray, np.ndarray, np.ndarray], effect: Effect, params: np.ndarray,
+              ctx: FitContext, seed: int = 0, inflate: float | None = None,
+              by_episode: bool = BY_EPISODE) -> tuple[np.ndarray, np.ndarray]:
+    """The 95 % interval from per-window terms (``window_terms``): the bootstrap's percentile
+    interval (``quantiles``) joined with the fitted value, widened about its centre by
+    ``inflate`` (default ``INFLATE``), at least the fit's own tolerance, within the bounds; a
+    parameter that moves no prediction gets its whole bounded range."""
+    lo_b, hi_b = effect.bounds(ctx)
+    if len(terms[0]) == 0:
         return lo_b.astype(float), hi_b.astype(float)
-    hs, gs = np.stack(h_list), np.stack(g_list)  # (W, P, P), (W, P)
+    q_lo, q_hi, blind = quantiles(terms, effect, params, ctx, seed, by_episode)
+    lo, hi = widen(params, q_lo, q_hi, effect.scale(ctx), INFLATE if inflate is None else inflate)
+    lo, hi = np.clip(lo, lo_b, hi_b), np.clip(hi, lo_b, hi_b)
+    return np.where(blind, lo_b, lo), np.where(blind, hi_b, hi)
+
+
+def widen(params: np.ndarray, q_lo: np.ndarray, q_hi: np.ndarray, scale: np.ndarray, k: float) -> tuple[np.ndarray, np.ndarray]:
+    """(P,) ends: the hull of ``params`` and [q_lo, q_hi], widened ``k`` times about its centre,
+    and never narrower than +-``TOL`` parameter scales (the fit stops within about 1 % of a
+    scale, ``voe.gap.fit``: an interval narrower than that claims more than the fit knows)."""
+    a, b = np.minimum(params, q_lo), np.maximum(params, q_hi)
+    c, half = (a + b) / 2, np.maximum((b - a) / 2, TOL * scale)
+    return c - k * half, c + k * half
+
+
+def quantiles(terms: tuple[np.ndarray, np.ndarray, np.ndarray], effect: Effect, params: np.ndarray,
+              ctx: FitContext, seed: int = 0, by_episode: bool = BY_EPISODE) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(P,) 2.5 and 97.5 percentiles of one Gauss-Newton step from ``params`` over resamples of
+    the windows (or of whole episodes), and (P,) which parameters no window informs.
+
+    Each part of a sum is stepped with the other parts held at their fitted values.
+    """
+    hs, gs, eps = terms
+    scale = effect.scale(ctx)
     info = np.diag(hs.sum(axis=0)) * scale**2  # cost curvature per scale step, summed over windows
     blind = info < 1.0
+    if not by_episode:
+        eps = np.arange(len(eps))
+    groups = [np.flatnonzero(eps == e) for e in np.unique(eps)]
+    h_g = np.stack([hs[g].sum(axis=0) for g in groups])  # (G, P, P)
+    g_g = np.stack([gs[g].sum(axis=0) for g in groups])  # (G, P)
     rng = np.random.default_rng(seed)
-    idx = rng.integers(0, len(hs), size=(N_BOOT, len(hs)))
+    idx = rng.integers(0, len(groups), size=(N_BOOT, len(groups)))
     ridge = 1e-9 * np.diag(1.0 / scale**2)
+    lo_b, hi_b = effect.bounds(ctx)
     draws = np.tile(params, (N_BOOT, 1)).astype(float)  # (N, P)
     i = 0
     for e in effect.parts:
         sl = slice(i, i + e.n_params)
         i += e.n_params
         for n, row in enumerate(idx):
-            h, g = hs[row].sum(axis=0) + ridge, gs[row].sum(axis=0)
+            h, g = h_g[row].sum(axis=0) + ridge, g_g[row].sum(axis=0)
             try:
                 draws[n, sl] = _step(params[sl], h[sl, sl], g[sl], lo_b[sl], hi_b[sl])
             except np.linalg.LinAlgError:
                 draws[n, sl] = np.nan
-    th = np.clip(draws, lo_b, hi_b)  # (N, P)
-    if np.isnan(th).all():
-        return lo_b.astype(float), hi_b.astype(float)
+    if np.isnan(draws).all():
+        return lo_b.astype(float), hi_b.astype(float), blind
     a = (1 - LEVEL) / 2
-    lo, hi = np.nanquantile(th, a, axis=0), np.nanquantile(th, 1 - a, axis=0)
-    lo = np.minimum(lo, params)
-    hi = np.maximum(hi, params)
-    return np.where(blind, lo_b, lo), np.where(blind, hi_b, hi)
+    return np.nanquantile(draws, a, axis=0), np.nanquantile(draws, 1 - a, axis=0), blind
 
 
 def _step(params: np.ndarray, h: np.ndarray, g: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
