@@ -22,7 +22,7 @@ import numpy as np
 from voe.models.loading import load_model
 from voe.models.train import TrainConfig, fit, split_batches, val_nll
 
-PAIRS = {"mlp-v1": "constvel-v1", "interaction-v1": "constvel-v1", "pixel-v1": "framecopy-v1"}
+PAIRS = {"mlp-v1": "constvel-v1", "interaction-v2": "constvel-v1", "pixel-v1": "framecopy-v1"}
 REFERENCES = ("constvel-v1", "framecopy-v1", "oracle-v1")
 
 

@@ -23,7 +23,7 @@ from voe.world.generate import generate_world
 @pytest.fixture(scope="module")
 def tiny(tmp_path_factory) -> Path:
     root = tmp_path_factory.mktemp("suite")
-    generate_probe_set(root / "probes", ["Permanence-v2", "Gravity-v3"], 4, 3, SimConfig(size=32))
+    generate_probe_set(root / "probes", ["Permanence-v2", "Gravity-v4"], 4, 3, SimConfig(size=32))
     generate_world(root / "world", 30, 3, SimConfig(size=32))
     (root / "mine.yaml").write_text(
         "controls:\n"
@@ -44,7 +44,7 @@ def test_matrix_from_the_cli_with_a_user_control_in_two_processes(tiny):
     m = pd.read_csv(out / "matrix.csv")
     assert set(m["control"]) == {"density", "motion-energy", "height", "speed", "stress-frame", "stress-step",
                                  "my-constvel"}
-    assert set(m["concept"]) == {"Permanence-v2", "Gravity-v3"}
+    assert set(m["concept"]) == {"Permanence-v2", "Gravity-v4"}
     from voe.io.probeset import load_probe_set
 
     assert set(m["condition"]) == {"all", *load_probe_set(tiny / "probes").index["condition"]}
@@ -54,7 +54,7 @@ def test_matrix_from_the_cli_with_a_user_control_in_two_processes(tiny):
     assert "cells that could have failed" in res.output and "could not fail (by construction)" in res.output
     assert (out / "confounds.csv").exists()
     mine = m[(m["control"] == "my-constvel") & (m["condition"] == "all")].set_index("concept")
-    assert mine.loc["Permanence-v2", "expected"] == "pass" and mine.loc["Gravity-v3", "expected"] == "fail"
+    assert mine.loc["Permanence-v2", "expected"] == "pass" and mine.loc["Gravity-v4", "expected"] == "fail"
     assert (out / "validity.md").read_text().count("Is the suite valid?") == 1
     assert (out / "figures" / "specificity.png").stat().st_size > 1000
     # a second run reuses every stored run instead of rescoring
@@ -67,7 +67,7 @@ def test_matrix_from_the_cli_with_a_user_control_in_two_processes(tiny):
 def test_bad_user_controls_get_one_line_errors(tmp_path):
     bad = tmp_path / "bad.yaml"
     bad.write_text("controls:\n  - name: x\n    model: constvel\n    should_fail: [gravty]\n")
-    with pytest.raises(UnknownNameError, match=r"bad.yaml: control 'x': unknown concept 'gravty'; did you mean 'Gravity-v3'"):
+    with pytest.raises(UnknownNameError, match=r"bad.yaml: control 'x': unknown concept 'gravty'; did you mean 'Gravity-v4'"):
         load_user_controls(bad)
     bad.write_text("controls: []\n")
     with pytest.raises(VoeError, match="non-empty list"):

@@ -9,11 +9,11 @@ CONCEPTS: Registry = Registry("concept")
 CONCEPTS.register("Permanence-v2", "voe.concepts.permanence:Permanence")
 CONCEPTS.register("Continuity-v2", "voe.concepts.continuity:Continuity")
 CONCEPTS.register("Unchangeableness-v3", "voe.concepts.unchangeableness:Unchangeableness")
-CONCEPTS.register("Solidity-v2", "voe.concepts.solidity:Solidity")
+CONCEPTS.register("Solidity-v3", "voe.concepts.solidity:Solidity")
 CONCEPTS.register("Inertia-v1", "voe.concepts.inertia:Inertia")
-CONCEPTS.register("Gravity-v3", "voe.concepts.gravity:Gravity")
-CONCEPTS.register("Collision-v3", "voe.concepts.collision:Collision")
-CONCEPTS.register("Energy-v3", "voe.concepts.energy:Energy")
+CONCEPTS.register("Gravity-v4", "voe.concepts.gravity:Gravity")
+CONCEPTS.register("Collision-v4", "voe.concepts.collision:Collision")
+CONCEPTS.register("Energy-v4", "voe.concepts.energy:Energy")
 
 #: The suites ``voe probes generate --suite`` knows, by concept name (latest version is used).
 SUITES: dict[str, tuple[str, ...]] = {

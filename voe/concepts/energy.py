@@ -11,8 +11,12 @@ speed scorer ties exactly. Only the order of the frames differs (no ``T_k``), an
 bounce does the reversed clip break a law. Occluded variant: a pillar, higher than the ball
 ever gets, hides the bounce; visible variant: no pillar. Both carry the verdict.
 
-Why a single bounce late in the clip: the reversed clip then holds one (energy-gaining) bounce
-too, and starts and ends in flight, so nothing but the bounce tells it from a tossed ball.
+Why a single bounce mid-clip: the reversed clip then holds one (energy-gaining) bounce too, and
+starts and ends in flight, so nothing but the bounce tells it from a tossed ball. Why the impact
+in the middle of its frame interval and the clip starting and ending at the same speed (v4): an
+impact early or late in its frame is late or early backwards, and a model judges the possible
+clip on its last frame but the reversed one on the possible clip's first; v3 left both as cues
+(constant velocity 0.95 on seed 2026, the ``no-inertia`` lesion 0.70). See ``_sample``, ``_toss``.
 
 v2 (a pair: the impact replayed with restitution above one) had the impossible ball higher and
 faster than the possible one after the onset: a height and a speed scorer passed it.
@@ -64,9 +68,31 @@ def instantaneous(rec: Recording, ball: int, cfg: SimConfig) -> Recording:
     return rec
 
 
+#: The impact's phase within its frame interval is centred to this fraction of the two misses'
+#: sum, starting the clip up to ``PHASE_STEPS`` quarter substeps (two frames) earlier or later.
+PHASE_TOL = 0.05
+PHASE_STEPS = 80
+
+
+def _miss_gap(truth: np.ndarray, ball: int, cfg: SimConfig) -> float:
+    """``(miss forwards - miss backwards) / (sum)`` of a ballistic one-frame predictor at the
+    first impact of ``truth (T, K, F)``: 0 when the impact is mid-interval, about ``1 - 2 phi``.
+
+    Velocities are taken at the frame's instant (``instantaneous``), so in flight the ballistic
+    predictor is exact both ways and only the impact is missed.
+    """
+    y = truth[:, ball, 1].astype(np.float64)  # (T,)
+    vy = truth[:, ball, 4].astype(np.float64) + G * cfg.dt / cfg.substeps / 2
+    f = int(np.argmax(np.diff(np.sign(vy)) > 0))  # last frame falling; f + 1 rises
+    dt = cfg.dt
+    fwd = abs(y[f + 1] - (y[f] + vy[f] * dt - G * dt ** 2 / 2))
+    rev = abs(y[f] - (y[f + 1] - vy[f + 1] * dt - G * dt ** 2 / 2))
+    return float((fwd - rev) / max(fwd + rev, 1e-9))
+
+
 class Energy(Concept):
     name = "energy"
-    version = 3
+    version = 4
     kind = "pair"
     balance = {"visible": "F+M+P+V+H+D", "occluded": "F+M+P+V+H+D"}
 
@@ -83,23 +109,44 @@ class Energy(Concept):
         return tuple(d.moved(vx=way * 0.25) for d in out)
 
     def _sample(self, rng: np.random.Generator, ctx: Context) -> dict[str, Any]:
+        """Toss height, impact frame and restitution chosen so that the clip starts and ends at the
+        same speed, with the impact in the middle of a frame interval.
+
+        Why the same speed: a model scores frames 1..T-1, so the possible clip is judged on its
+        last frame and the reversed one on the possible clip's first. On Energy-v3 the toss (about
+        5.5 units/s) was much faster than the end of the rebound (1-2 units/s): any model whose
+        surprise grows with speed found the reversed clip more surprising without knowing about
+        energy (the `no-inertia` lesion, every frame predicted at rest, scored 0.70). Falling at
+        ``u`` into the impact at time 0 and leaving it at ``e u``, a clip of length ``L`` from
+        ``t_s`` starts rising at ``-u - g t_s`` and ends falling at ``g (t_s + L) - e u``: equal
+        when ``t_s = -(L + u (1 - e) / g) / 2``. With the impact at ``(n + 1/2) dt`` after the start
+        that fixes the restitution: ``1 - e = ((2n + 1) dt - L) g / u``.
+        """
         r = self.ranges
         size = self.uniform(rng, r["size"])
         x = self.uniform(rng, r["x"])
+        dt, L = ctx.cfg.dt, (ctx.cfg.n_frames - 1) * ctx.cfg.dt
+        drop = self.uniform(rng, r["drop"])
+        n = int(rng.integers(r["impact_frame"][0], r["impact_frame"][1] + 1))
+        u = float(np.sqrt(2 * G * drop))  # speed into the impact
+        restitution = 1 - ((2 * n + 1) * dt - L) * G / u
+        floor_e = self.uniform(rng, r["floor_elasticity"])
         return {"main_slots": list(ctx.slots[:1]), "look": {"shape": "circle", "width": size, "height": size,
                          "intensity": self.uniform(rng, [0.65, 1.0])},
-                "x": x, "drop": self.uniform(rng, r["drop"]), "t_up": self.uniform(rng, r["t_up"]),
-                "ball_elasticity": self.uniform(rng, r["ball_elasticity"]),
-                "floor_elasticity": self.uniform(rng, r["floor_elasticity"]),
+                "x": x, "drop": drop, "t_up": (n + 0.5) * dt - u / G, "impact_frame": n,
+                "ball_elasticity": restitution / floor_e, "floor_elasticity": floor_e,
                 "vx": float(np.sign(5.0 - x)) * self.uniform(rng, r["drift"]),  # towards the centre
                 "screen_width": size + self.uniform(rng, r["screen_margin"])}
 
-    def build(self, p: dict[str, Any], ctx: Context) -> Scene:
+    def build(self, p: dict[str, Any], ctx: Context, tau: float = 0.0) -> Scene:
+        """The toss, the clip starting ``tau`` seconds into it (``tau`` moves the impact within
+        its frame interval, see ``_pair``)."""
         look = p["look"]
         vy0 = G * p["t_up"]  # tossed up so that the top of its flight is `drop` above the floor
+        y0 = FLOOR_Y + p["drop"] - vy0 ** 2 / (2 * G) + look["height"] / 2
         ball = Body(slot=ctx.slots[0], shape="circle", width=look["width"], height=look["height"],
-                    x=p["x"], y=FLOOR_Y + p["drop"] - vy0 ** 2 / (2 * G) + look["height"] / 2,
-                    vx=p["vx"], vy=vy0, friction=0.0, elasticity=p["ball_elasticity"],
+                    x=p["x"] + p["vx"] * tau, y=y0 + vy0 * tau - G * tau ** 2 / 2,
+                    vx=p["vx"], vy=vy0 - G * tau, friction=0.0, elasticity=p["ball_elasticity"],
                     intensity=look["intensity"])
         # a pillar centred where the ball lands, higher than the ball ever gets but below the
         # distractor lane: it hides the bounce, and no distractor passes behind it (one going in
@@ -108,9 +155,37 @@ class Energy(Concept):
         occ = [] if ctx.visible else [screen(x_land, p["screen_width"], PILLAR_TOP - (FLOOR_Y - 0.3), pad=ctx.pixel)]
         return self.scene(ctx, [ball], [floor(friction=0.0, elasticity=p["floor_elasticity"])], occ)
 
+    def _toss(self, p: dict[str, Any], ctx: Context) -> tuple[Recording, np.ndarray, float]:
+        """The possible clip with its impact in the middle of a frame interval.
+
+        Why: an impact at phase ``phi`` of its frame interval is at ``1 - phi`` backwards, so a
+        predictor that steps over it (constant velocity, a ballistic one) misses by
+        ``(1 - phi)(1 + e) v dt`` forwards and ``phi (1 + e) v dt`` backwards: on Energy-v3 the
+        reversed clip was more surprising in most sets for that reason alone (constant velocity
+        0.95 on seed 2026). The phase is measured as the ballistic predictor's two misses at the
+        impact, on the simulated states, and the clip is started later (or earlier) along the
+        same toss, by quarter substeps (the contact starts on a substep, so the misses move in
+        steps, not smoothly), until they agree to ``PHASE_TOL`` of their sum.
+        """
+        slot, h = ctx.slots[0], ctx.cfg.dt / ctx.cfg.substeps
+        best = None
+        for k in sorted(range(-PHASE_STEPS, PHASE_STEPS + 1), key=lambda k: (abs(k), k)):
+            tau = k * h / 4  # quarter substeps: where in a substep the contact starts matters too
+            pos, truth = rollout(self.build(p, ctx, tau), ctx.cfg)  # truth: states also while hidden
+            gap = abs(_miss_gap(truth, slot, ctx.cfg))
+            if best is None or gap < best[0]:
+                best = (gap, pos, truth, tau)
+            if gap < PHASE_TOL:
+                break
+        if best[0] >= PHASE_TOL:
+            raise ValueError(f"energy: impact phase not centred within {PHASE_STEPS} quarter substeps "
+                             f"(best miss gap {best[0]:.3f})")
+        gap, pos, truth, tau = best
+        return pos, truth, tau
+
     def _pair(self, p: dict[str, Any], ctx: Context) -> tuple[Recording, Recording, int]:
         slot, T = ctx.slots[0], ctx.cfg.n_frames
-        pos, truth = rollout(self.build(p, ctx), ctx.cfg)  # truth: states also while hidden
+        pos, truth, p["start_offset"] = self._toss(p, ctx)
         vy = truth[:, slot, 4]  # (T,)
         falling = int(np.argmax(vy < 0))
         rising = np.flatnonzero(vy[falling:] > 0) + falling

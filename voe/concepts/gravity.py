@@ -1,21 +1,25 @@
-"""Gravity: what goes up comes down, and what is dropped falls, on time.
+"""Gravity: what is thrown up comes back down, on time.
 
-A screen hangs in the air (its bottom above the floor, its top below the window's top), so a
+A screen hangs in the air (its bottom above the floor, its top below the distractor lane), so a
 ball is hidden while it is inside that column. Possible A: a ball is thrown straight up from the
-floor into the column; it rises behind the screen, turns round and falls back out of the bottom
-(after about 1 s). Possible B: the same ball is dropped from above the column; it falls in at the
-top and out at the bottom, faster and much sooner. The balls share x, so while both are behind
-the screen A's and B's frames are identical. Impossible AB / BA splice A and B in the middle of
-those frames: the ball thrown up comes back down far too soon and too fast (AB), and the dropped
-ball hangs behind the screen and comes out late and slowly (BA). Only gravity fixes when and how
-fast a ball comes out of the column, so only gravity tells the spliced clips from the possible
-ones.
+floor; it rises into the column, turns round behind the screen and falls back out of its bottom
+at the speed it went in, and lands. Possible B: the same throw ``shift`` frames later. While both
+balls are behind the screen A's and B's frames are identical. Impossible AB / BA splice A and B
+in the middle of those frames: the ball comes back down ``shift`` frames too late (AB: it hung in
+the air) or too early (BA: it turned round below the height its speed carries it to).
+
+Why this design (v4): in all four clips the ball leaves the column where it went in, at the speed
+it went in with, moving down; only *when* differs, and how long a ball thrown up at a given speed
+stays up is fixed by gravity alone (``2 v / g`` from the screen's bottom back to it). A smooth
+track (a statistic of second differences across the screen) sees the same reversal in every
+clip; v3's second possible clip (a ball dropped from above) came out much faster than the thrown
+one went in, so its splices left a velocity jump that a smoothness statistic scored 1.00 on.
+The speed going in is seen, so the probe needs inertia (the ball keeps the speed it was seen
+with) as well as gravity.
 
 Occluded (verdict): the splice falls with the ball hidden for at least 2 frames on each side:
-F+M+T2+P+V+H+D. Perceptual: no screen; the ball jumps from one path to the other in view.
-
-v2 (a pair: gravity switched off at the top of an arc) had the impossible object higher than the
-possible one after the onset: a mean-height scorer passed it.
+F+M+T2+P+V+H+D. Perceptual: no screen; the splice falls where A's falling ball and B's rising one
+are closest, so the ball turns round in mid-air in view.
 """
 
 from __future__ import annotations
@@ -32,7 +36,7 @@ from voe.sim.scene import Body, Occluder, Scene
 
 class Gravity(Concept):
     name = "gravity"
-    version = 3
+    version = 4
     kind = "quadruplet"
     conditions = ("perceptual", "occluded")
     balance = {"occluded": "F+M+T2+P+V+H+D", "perceptual": "F+P+V+H"}
@@ -44,34 +48,39 @@ class Gravity(Concept):
         bottom = FLOOR_Y + self.uniform(rng, r["screen_bottom"])
         top = bottom + self.uniform(rng, r["screen_height"])
         apex = bottom + (top - bottom - h) * self.uniform(rng, r["apex_frac"])  # ball bottom at the top
-        y_thrown = FLOOR_Y + h / 2  # resting on the floor when thrown
         return {"main_slots": list(ctx.slots[:1]), "look": look, "x": self.uniform(rng, r["x"]),
                 "screen_bottom": bottom, "screen_top": top,
-                "y_thrown": y_thrown, "vy_thrown": float(np.sqrt(2 * G * (apex - (y_thrown - h / 2)))),
-                "y_dropped": top + self.uniform(rng, r["drop_gap"]) + h / 2,
+                "vy_thrown": float(np.sqrt(2 * G * (apex - FLOOR_Y))),
+                "shift": int(rng.integers(r["shift"][0], r["shift"][1] + 1)),
                 "screen_width": look["width"] + self.uniform(rng, r["screen_margin"])}
 
-    def build(self, p: dict[str, Any], ctx: Context, thrown: bool) -> Scene:
-        """The scene with the ball thrown up from the floor (A) or dropped from above (B)."""
+    def build(self, p: dict[str, Any], ctx: Context, start: tuple[float, float] | None = None) -> Scene:
+        """The throw of B (thrown from the floor at frame 0), or with ``start`` (height, vertical
+        speed) the clip starting with the ball that far into its flight (A)."""
         look = p["look"]
+        y, vy = start if start is not None else (FLOOR_Y + look["height"] / 2, p["vy_thrown"])
         ball = Body(slot=ctx.slots[0], shape=look["shape"], width=look["width"], height=look["height"],
-                    x=p["x"], y=p["y_thrown"] if thrown else p["y_dropped"],
-                    vy=p["vy_thrown"] if thrown else 0.0, friction=0.0, elasticity=0.2,
-                    intensity=look["intensity"])
+                    x=p["x"], y=y, vy=vy, friction=0.0, elasticity=0.2, intensity=look["intensity"])
         half, pad = p["screen_width"] / 2, ctx.pixel
         occ = [] if ctx.visible else [Occluder(p["x"] - half - pad, p["screen_bottom"] - pad,
                                                p["x"] + half + pad, p["screen_top"] + pad)]
         return self.scene(ctx, [ball], [floor(friction=0.0, elasticity=0.3)], occ)
 
     def _possible_pair(self, p: dict[str, Any], ctx: Context) -> tuple[Recording, Recording, np.ndarray]:
-        a, b = (simulate(self.build(p, ctx, thrown), ctx.cfg) for thrown in (True, False))
         slot = ctx.slots[0]
-        if ctx.visible:  # where the two paths are closest, while the dropped ball is in the air
+        b = simulate(self.build(p, ctx), ctx.cfg)
+        # A is B's throw `shift` frames on: started from B's simulated state at that frame (still in
+        # view below the screen), so A's flight is B's frame for frame, not a re-integration of it
+        st = b.states[p["shift"], slot].astype(np.float64)  # (F,)
+        if not b.present[p["shift"], slot]:
+            raise ValueError("gravity: the ball is hidden before frame `shift`; lower shift in spec.yaml")
+        a = simulate(self.build(p, ctx, (float(st[1]), float(st[4]))), ctx.cfg)
+        if ctx.visible:  # where A's falling ball and B's rising one are closest
             ya, yb = a.states[:, slot, 1], b.states[:, slot, 1]  # (T,)
-            falling = np.flatnonzero(b.states[:, slot, 4] < -0.5)
-            s = int(falling[np.argmin(np.abs(ya - yb)[falling])]) if falling.size else 0
+            both = np.flatnonzero((a.states[:, slot, 4] < -0.5) & (b.states[:, slot, 4] > 0.5))
+            s = int(both[np.argmin(np.abs(ya - yb)[both])]) if both.size else 0
             if not 3 <= s <= ctx.cfg.n_frames - 3:
-                raise ValueError("gravity: the two paths never come close; adjust the ranges in spec.yaml")
+                raise ValueError("gravity: the two paths never cross in flight; adjust the ranges in spec.yaml")
         else:
             s = middle_splice(common_hidden(a, b, [slot]), f"{self.id} behind the screen")
         return a, b, np.arange(ctx.cfg.n_frames) >= s

@@ -10,11 +10,12 @@ the control that did it (``voe.scoring.verdict.CONFOUNDED_RULE``). Concepts that
 balanced design are confounded whatever the controls do. Works for any concept in a probe set,
 user-made ones included: it reads only the matrix.
 
-Random networks are scoped to their architecture (the model class, ``scope`` in the matrix). A random network reads its architecture's own
-input code (for the state models: per-slot memory of hidden objects, the constant-velocity
-guess, where screens are), so when random readouts of that code separate a probe's clips, what
-it shows is that *models of that architecture* can pass the probe without learning anything:
-their verdicts there are confounded. A model of another architecture (the oracle, the pixel
+Random networks are scoped to their architecture (the model class, ``scope`` in the matrix). A
+random network reads its architecture's own input code (for ``mlp``: per-slot memory of hidden
+objects and the constant-velocity guess; ``interaction`` carries hidden objects only by its own
+learned predictions, so a random one forgets them), so when random readouts of that code separate
+a probe's clips, what it shows is that *models of that architecture* can pass the probe without
+learning anything: their verdicts there are confounded. A model of another architecture (the oracle, the pixel
 model) does not read that code, and the probe's bytes stay balanced for it.
 """
 

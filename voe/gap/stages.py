@@ -23,12 +23,12 @@ from voe.gap.effects import EFFECTS
 from voe.gap.effects.base import Effect, FitContext
 from voe.gap.fit import FitConfig, Fitter
 from voe.gap.folds import FoldedFitter
+from voe.gap.greedy import SearchResult, greedy
 from voe.gap.locate import locate, window_z
 from voe.gap.null import NullRound, NullSearch
 from voe.gap.prefit import flight_samples
 from voe.gap.recordings import Episode, load_recordings
 from voe.gap.scene import load_scene, resolve_joints
-from voe.gap.search import SearchResult, greedy
 from voe.gap.shooting import Shooter, Window, choose_half, make_windows, noise_model
 from voe.gap.split import Split, split_episodes
 from voe.gap.synth import null_like
@@ -127,7 +127,7 @@ def search_step(p: Problem, loc: Location, config: GapConfig, max_effects: int, 
                       config.min_gain, seed, lambda k: note(f"null: {k}"), n_jobs)
     contexts = {x["context"] for x in loc.located} or _all_labels(p.scene, p.episodes)
     noise = float(np.median(p.sigma[:, :2]))
-    res = greedy(data, p.candidates, null.threshold, max_effects, contexts, noise, lambda k: note(f"fit: {k}"),
+    res = greedy(data, p.candidates, null, max_effects, contexts, noise, lambda k: note(f"fit: {k}"),
                  config.gain_lower_q, n_jobs)
     return Search(res, null.result(), data)
 

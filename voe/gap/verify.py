@@ -39,8 +39,8 @@ def verify(shooter: Shooter, pairs: list[tuple[Window, np.ndarray | None]], effe
     if not windows:
         nan = float("nan")
         return Verification(nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, False)
-    before = [shooter.residual(w, None, None) for w in windows]
-    after = [shooter.residual(w, effect, p) for w, p in pairs] if effect is not None else before
+    before = shooter.residuals(windows, None, None)
+    after = _residuals_at(shooter, pairs, effect) if effect is not None else before
     sp = [shooter.sigma_pred(w, sigma) for w in windows]
     zb = np.array([np.sqrt(np.mean((r / s)[1:] ** 2, axis=0)).max() for r, s in zip(before, sp, strict=True)])
     za = np.array([np.sqrt(np.mean((r / s)[1:] ** 2, axis=0)).max() for r, s in zip(after, sp, strict=True)])
@@ -49,6 +49,18 @@ def verify(shooter: Shooter, pairs: list[tuple[Window, np.ndarray | None]], effe
                         window_score(before), window_score(after),
                         float(np.median(zb)), float(np.median(za)), float(np.mean(zb > z_thr)), flagged_after,
                         bool(flagged_after <= 0.1))
+
+
+def _residuals_at(shooter: Shooter, pairs: list[tuple[Window, np.ndarray | None]], effect: Effect) -> list[np.ndarray]:
+    """Residual of each window at its own parameters; windows sharing parameters are simulated together."""
+    groups: dict[bytes, list[int]] = {}
+    for i, (_, p) in enumerate(pairs):
+        groups.setdefault(np.asarray(p, dtype=float).tobytes(), []).append(i)
+    out: list[np.ndarray] = [np.empty(0)] * len(pairs)
+    for idx in groups.values():
+        for i, r in zip(idx, shooter.residuals([pairs[i][0] for i in idx], effect, pairs[idx[0]][1]), strict=True):
+            out[i] = r
+    return out
 
 
 def _where(located: list[dict], z_strong: float, limit: int = 4) -> str:

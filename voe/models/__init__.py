@@ -16,7 +16,7 @@ MODELS.register("oracle-v1", "voe.models.oracle:PhysicsOracle", observation="sta
 # learned (torch)
 MODELS.register("mlp-v1", "voe.models.mlp:FlatMLP", observation="states", learned=True,
                 summary="flat Gaussian MLP over all slots, no object structure")
-MODELS.register("interaction-v1", "voe.models.interaction:InteractionNet", observation="states", learned=True,
-                summary="object-centric interaction network: memory, presence, statics, screens")
+MODELS.register("interaction-v2", "voe.models.interaction:InteractionNet", observation="states", learned=True,
+                summary="object-centric interaction network; rolls hidden objects forward on its own predictions")
 MODELS.register("pixel-v1", "voe.models.pixel:PixelModel", observation="frames", learned=True,
                 summary="conv predictor with ConvGRU memory, per-pixel Bernoulli")

@@ -1,7 +1,8 @@
-"""Per-slot input features for the learned state models (numpy; no torch).
+"""Per-slot input features of the flat ``mlp`` state model (numpy; no torch).
 
-Why: the object-centric model must know what the probes test without being told about them:
-where each object is and how it moves (carried forward while hidden: per-slot memory), which
+Why: a model without object structure and without a memory of its own needs the memory handed
+to it: where each object is and how it moves (carried forward while hidden at constant velocity:
+per-slot memory; a physics prior, so random ``mlp`` networks can read hidden splices), which
 static segment it is about to touch (floors, shelves, ramps, walls from ``batch.geometry``) and
 whether it should be visible next frame (inside the window and not fully behind a screen). These
 are plain geometry on the observation and the stored scene geometry, computed once per batch.

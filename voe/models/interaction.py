@@ -1,13 +1,21 @@
-"""Object-centric interaction network with per-slot memory, presence and a Gaussian head.
+"""Object-centric interaction network that rolls hidden objects forward with its own predictions.
 
-Why: physical expectations are about objects, so each slot is encoded on its own (its memory:
-last seen state carried forward while hidden, its nearest static segments, whether it should be
-visible next frame; see ``voe.models.features``), objects exchange messages along all pairs
-(relative position and velocity, the gap between them and the frames until they touch), and each slot predicts its own next
-state (``voe.models.state_head``). Teacher-forced on the true past, one step ahead.
+Why: physical expectations are about objects, including objects one cannot see. Each slot is
+encoded on its own (``voe.models.slot_rollout``), objects exchange messages along all pairs, and
+each slot predicts a distribution over its own next state. A visible slot's state is its
+observation; a hidden (or never seen) slot's state is the model's own prediction from the frame
+before, so a hidden object keeps moving, falls, hits walls and other objects only as far as the
+network has learned that it does. Training runs over whole clips of the ordinary training world
+(which has screens), and the loss on an object's reappearance back-propagates through every
+rolled-out hidden step. The surprise at reappearance is the likelihood of the observed state under
+the rolled-out prediction, whose variance grows along the rollout (``RolloutHead``).
 
-References: Battaglia et al. 2016, "Interaction Networks for Learning about Objects, Relations
-and Physics"; Piloto et al. 2022 (PLATO), object-centric VoE surprise.
+Nothing physical is built in: untrained, the output layers and gates are zero and the model is the
+same uniform distribution for every clip; a random network (random output layers, gates closed)
+does not carry a hidden object's state forward, so it cannot compare history with outcome.
+
+References: Battaglia et al. 2016, "Interaction Networks"; Sanchez-Gonzalez et al. 2020 (learned
+simulators rolled out on their own predictions); Piloto et al. 2022 (PLATO, object-centric VoE).
 """
 
 from __future__ import annotations
@@ -19,10 +27,11 @@ import torch
 from torch import nn
 
 from voe.io.batch import Batch
-from voe.models import features as ft
-from voe.models.mlp import to_tensors
-from voe.models.state_head import OUT, StateHead, state_nll
+from voe.models import slot_rollout as sr
+from voe.models.state_head import DELTA_SCALE, TYPICAL, StateHead, bounded_logvar, cell_nll
 from voe.models.torchbase import TorchModel
+
+OUT = 18  # presence, 6 mean corrections, 9 log-variances, shape, exist correction
 
 
 @dataclass(frozen=True)
@@ -35,25 +44,122 @@ def mlp(a: int, h: int, b: int) -> nn.Sequential:
     return nn.Sequential(nn.Linear(a, h), nn.SiLU(), nn.Linear(h, h), nn.SiLU(), nn.Linear(h, b))
 
 
+class RolloutHead(StateHead):
+    """The shared state head with ten gated features (nine ``CONT`` and ``exist``).
+
+    ``mean_f = c_f + g_f * (guess_f - c_f) + correction`` where ``guess`` is the slot state moved
+    one Euler step by its own velocity (for x, y, angle) and the state itself otherwise, and
+    ``g = GAIN * theta`` starts at zero: an untrained or random network predicts the typical state
+    whatever it saw. The predicted variance is the network's one-step variance plus ``g^2`` times
+    the carried variance, so along a hidden rollout the variance accumulates with the gates the
+    model learned (a Kalman-style prediction step).
+    """
+
+    GAIN = 10.0  # a gate opens in ~50 Adam steps: a whole-clip step is costly, there are few
+    LV_GAIN = 20.0  # likewise for the one-step log-variance's per-feature offset
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.c = nn.Parameter(torch.tensor((*TYPICAL, 0.0)))
+        self.theta = nn.Parameter(torch.zeros(10))
+        self.lv_bias = nn.Parameter(torch.zeros(9))  # per-feature log-variance offset, x LV_GAIN
+        self.presence_screen = nn.Linear(2, 1, bias=False)  # covered / outside at the predicted state
+        nn.init.zeros_(self.presence_screen.weight)
+
+    def gates(self) -> torch.Tensor:
+        return self.GAIN * self.theta  # (10,)
+
+    def step_mean(self, cont: torch.Tensor, exist: torch.Tensor, dt: torch.Tensor) -> torch.Tensor:
+        # cont: (B, K, 9), exist: (B, K), dt: (B,) -> (B, K, 10)
+        moved = cont[..., 0:3] + dt[:, None, None] * cont[..., 3:6]
+        guess = torch.cat([moved, cont[..., 3:], exist[..., None]], -1)
+        return self.c + self.gates() * (guess - self.c)
+
+
 class InteractionModule(nn.Module):
     def __init__(self, c: InteractionConfig) -> None:
         super().__init__()
         h = c.hidden
-        self.node = mlp(ft.D, h, h)
-        self.edge = mlp(2 * h + ft.REL, h, h)
-        self.out = mlp(2 * h + ft.D, h, OUT)
-        self.head = StateHead()
+        self.node = mlp(sr.D, h, h)
+        # the edge MLP's first layer acts on [h_k, h_j, rel]; it is applied per node and per pair
+        # and summed (the same function, K times fewer rows for the node parts)
+        self.edge = mlp(2 * h + sr.REL, h, h)
+        self.h = h
+        self.out = mlp(2 * h + sr.D, h, OUT)
+        self.head = RolloutHead()
         nn.init.zeros_(self.out[-1].weight)  # untrained = the same prediction for every input
         nn.init.zeros_(self.out[-1].bias)
 
     def forward(self, x: torch.Tensor, rel: torch.Tensor) -> torch.Tensor:
-        # x: (B, T, K, D); rel: (B, T, K, K, REL) with [k, j] = other j seen from k
-        B, T, K, D = x.shape
-        h = self.node(x)  # (B, T, K, H)
-        pair = torch.cat([h[:, :, :, None].expand(B, T, K, K, -1), h[:, :, None].expand(B, T, K, K, -1), rel], -1)
-        mask = rel[..., -1:]  # other known (zero on the diagonal)
-        msg = (self.edge(pair) * mask).sum(3)  # (B, T, K, H)
-        return self.out(torch.cat([h, msg, x], -1))  # (B, T, K, OUT)
+        # x: (B, K, D); rel: (B, K, K, REL) with [k, j] = other j seen from k -> (B, K, OUT)
+        B, K, _ = x.shape
+        h = self.node(x)  # (B, K, H)
+        first, H = self.edge[0], self.h
+        w = first.weight  # (H, 2H + REL)
+        e = (nn.functional.linear(h, w[:, :H], first.bias)[:, :, None]  # (B, K, 1, H): receiver k
+             + nn.functional.linear(h, w[:, H:2 * H])[:, None]  # (B, 1, K, H): sender j
+             + nn.functional.linear(rel, w[:, 2 * H:]))  # (B, K, K, H)
+        off = 1.0 - torch.eye(K, dtype=x.dtype, device=x.device)[None, :, :, None]
+        msg = (self.edge[1:](e) * off).sum(2)  # (B, K, H)
+        return self.out(torch.cat([h, msg, x], -1))
+
+
+def rollout_nll(net: InteractionModule, d: dict[str, torch.Tensor]) -> torch.Tensor:
+    """Surprise ``(B, T)`` of every frame given the frames before it (frame 0 set to 0).
+
+    Frame by frame: the slot state is the observation where a slot is visible and the model's own
+    prediction elsewhere; the network predicts frame t+1 from the state at t only, so the result is
+    causal by construction and each clip is processed on its own.
+    """
+    head = net.head
+    obs, pres, circ_obs = d["obs"], d["present"], d["circle"]  # (B, T, K, 9), (B, T, K), (B, T, K)
+    B, T, K, _ = obs.shape
+    dt = d["dt"][:, 0]  # (B,)
+    geo = {k: d[k][:, 0] for k in ("statics", "occluders", "extent")}
+    scale = obs.new_tensor(DELTA_SCALE)
+    f64 = not head.training  # score in float64: an untrained model's equal costs stay equal
+    cont = obs.new_zeros(B, K, 9)
+    circ = obs.new_full((B, K), 0.5)
+    exist = obs.new_zeros(B, K)
+    lv = obs.new_full((B, K, 9), sr.LV_NEW)
+    frames = [obs.new_zeros(B, dtype=torch.float64 if f64 else obs.dtype)]
+    for t in range(T):
+        p = pres[:, t]  # (B, K)
+        cont = torch.where(p[..., None], obs[:, t], cont)
+        circ = torch.where(p, circ_obs[:, t], circ)
+        exist = torch.where(p, torch.ones_like(exist), exist)
+        lv = torch.where(p[..., None], torch.full_like(lv, sr.LV_OBS), lv)
+        if t == T - 1:
+            break
+        x, rel = sr.slot_inputs(cont, circ, exist, lv, p, geo)
+        out = net(x, rel)  # (B, K, OUT)
+        mean = head.step_mean(cont, exist, dt)  # (B, K, 10)
+        mean = torch.cat([mean[..., :6] + scale * out[..., 1:7], mean[..., 6:9],
+                          mean[..., 9:] + out[..., 17:18]], -1)
+        g2 = head.gates()[:9] ** 2
+        lv_next = torch.logaddexp(bounded_logvar(out[..., 7:16] + head.LV_GAIN * head.lv_bias), torch.log(g2 + 1e-30) + lv).clamp(-14.0, 8.0)
+        cont_next = sr.clamp_state(mean[..., :9])
+        hid, outside = sr.covered(cont_next.detach(), circ.detach(), geo["occluders"], geo["extent"])
+        p_logit = (out[..., 0] + head.presence_bias()
+                   + head.presence_screen(torch.stack([hid, outside], -1).to(out)).squeeze(-1))
+        s_logit = out[..., 16] + head.shape_gain * (2 * circ - 1)
+        cost = _frame_cost(head, mean[..., :9], lv_next, p_logit, s_logit, obs[:, t + 1], pres[:, t + 1],
+                           circ_obs[:, t + 1], f64)
+        frames.append(cost)
+        cont, lv, exist, circ = cont_next, lv_next, mean[..., 9], torch.sigmoid(s_logit)
+    return torch.stack(frames, 1)  # (B, T)
+
+
+def _frame_cost(head: RolloutHead, mean: torch.Tensor, lv: torch.Tensor, p_logit: torch.Tensor,
+                s_logit: torch.Tensor, obs: torch.Tensor, pres: torch.Tensor, circ: torch.Tensor,
+                f64: bool) -> torch.Tensor:
+    """``-log P(frame)`` ``(B,)``: per slot presence, and shape and cells where present."""
+    if f64:
+        mean, lv, p_logit, s_logit, obs, circ = (v.double() for v in (mean, lv, p_logit, s_logit, obs, circ))
+    gauss = cell_nll(sr.wrap(obs - mean), lv, obs, head).sum(-1)  # (B, K)
+    shape = nn.functional.binary_cross_entropy_with_logits(s_logit, circ, reduction="none")
+    presence = nn.functional.binary_cross_entropy_with_logits(p_logit, pres.to(p_logit), reduction="none")
+    return (presence + torch.where(pres, gauss + shape, torch.zeros_like(gauss))).sum(-1)
 
 
 class InteractionNet(TorchModel):
@@ -61,18 +167,20 @@ class InteractionNet(TorchModel):
 
     Config = InteractionConfig
     observation = "states"
-    #: training presets: clips (windows) per step, window length in frames, learning rate
-    presets = {"cpu": {"batch": 256, "window": 2, "lr": 2e-3}, "cuda": {"batch": 2048, "window": 2, "lr": 2e-3}}
-    model_id = "interaction-v1"
+    #: training presets: whole clips per step (window = clip length: hidden rollouts start at the
+    #: first frame), learning rate
+    presets = {"cpu": {"batch": 64, "window": 10**6, "lr": 3e-3},
+               "cuda": {"batch": 256, "window": 10**6, "lr": 2e-3}}
+    model_id = "interaction-v2"
 
     def build(self) -> nn.Module:
         return InteractionModule(self.config)
 
     def prepare(self, batch: Batch) -> dict[str, torch.Tensor]:
-        return to_tensors(batch)
+        return sr.prepare(batch)
 
     def nll(self, d: dict[str, torch.Tensor]) -> torch.Tensor:
-        return state_nll(self.net(d["x"][:, :-1], d["rel"][:, :-1]), self.net.head, d)
+        return rollout_nll(self.net, d)
 
     def batch_layout(self, batch: Batch) -> dict[str, Any]:
-        return ft.layout(batch)
+        return sr.layout(batch)

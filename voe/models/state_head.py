@@ -1,8 +1,9 @@
 """The Gaussian/Bernoulli output head shared by the learned state models (torch).
 
-Why: the flat MLP and the interaction network must put their surprise in the same observation
-space as the references (``voe.models.statelik``): per slot, presence, shape, and a diagonal
-Gaussian over the nine continuous features. Both networks emit ``OUT = 17`` numbers per slot:
+Why: the learned state models must put their surprise in the same observation space as the
+references (``voe.models.statelik``): per slot, presence, shape, and a diagonal Gaussian over the
+nine continuous features. The flat MLP emits ``OUT = 17`` numbers per slot (the interaction
+network extends this head, see ``voe.models.interaction.RolloutHead``):
 
     0      presence logit for t+1
     1-6    mean correction of (x, y, angle, vx, vy, omega)
@@ -113,7 +114,8 @@ def cell_nll(r: torch.Tensor, logvar: torch.Tensor, obs: torch.Tensor, head: Sta
 def _cell_logp(r: torch.Tensor, sd: torch.Tensor) -> torch.Tensor:
     q = r.new_tensor(QUANTUM)
     logvar = 2 * torch.log(sd)
-    lo, hi = (r - q / 2) / sd, (r + q / 2) / sd
+    # far tails (|z| > 40) are uniform-dominated anyway; the clamp keeps log_ndtr's gradient finite
+    lo, hi = ((r - q / 2) / sd).clamp(-40, 40), ((r + q / 2) / sd).clamp(-40, 40)
     flip = lo > 0
     lo, hi = torch.where(flip, -hi, lo), torch.where(flip, -lo, hi)
     lh, ll = torch.special.log_ndtr(hi), torch.special.log_ndtr(lo)
