@@ -1,4 +1,5 @@
-"""95 % intervals of fitted parameters: a bootstrap over fitting windows, linearised.
+"""95 % intervals of fitted parameters: a bootstrap over fitting windows, linearised, widened by
+a factor calibrated on development seeds.
 
 Why: a point value (``b = 0.000182``) says nothing about whether the effect is there at all. The
 fit's cost is a sum over windows, so resampling windows with replacement is the natural
@@ -6,10 +7,13 @@ bootstrap (windows, not samples: residuals within a window are correlated throug
 estimated initial state). Refitting through the simulator for every resample would cost hundreds
 of fits, so each resample takes one Gauss-Newton step from the fitted parameters instead, using
 per-window gradients and curvatures computed once (one extra rollout per window and parameter,
-finite differences, soft-L1 weights at the fit). A parameter that moves no window's prediction
-gets the whole bounded range: no information is not certainty. An interval containing the
-effect's nominal value (zero strength, the scene's own coefficient) means the effect is not
-established, and the finder does not report it.
+finite differences, soft-L1 weights at the fit). The raw bootstrap held the true value in only
+73 % of development cases, so the interval (the hull of the fit and the bootstrap's percentile
+interval) is widened about its centre by ``INFLATE`` (see its calibration note) and is never
+narrower than the fit's own tolerance. A parameter that moves no window's prediction gets the
+whole bounded range: no information is not certainty. An interval containing the effect's
+nominal value (zero strength, the scene's own coefficient) means the effect is not established,
+and the finder does not report it.
 """
 
 from __future__ import annotations
@@ -21,9 +25,18 @@ from voe.gap.shooting import Shooter, Window
 
 N_BOOT = 400
 LEVEL = 0.95
-INFLATE = 1.0  # calibrated below (bench/gap_coverage.py on dev seeds)
+# Calibrated on development seeds 0-7 with bench/gap_coverage.py (96 cases: 8 of each effect
+# with a bench scene, the true effect fitted as the search fits it). Share of intervals holding
+# the true parameters: window bootstrap as is 70/96 (73 %), widened 1.5x 86/96, 2x 90/96 (94 %),
+# 2.5x 92/96; the episode bootstrap needs more (65/96 as is, 87/96 at 2x: six fitting episodes
+# are too few clusters for percentiles). Why the raw bootstrap is too narrow: the fit stops after
+# a dozen evaluations, not at the optimum, and its residual error is not resampling noise;
+# windows share start-state errors. The four cases no factor covers are point_attractor fits
+# stuck in a wrong optimum (k = 9-11 against 1.2-1.5), which no interval about the fit can mend.
+# 2x rather than 2.5x: wider intervals would also drop weak true effects as not established.
+INFLATE = 2.0
 TOL = 0.01  # parameter scales: the fit's own tolerance (voe.gap.fit, xatol / Powell xtol)
-BY_EPISODE = False
+BY_EPISODE = False  # resample windows (see the calibration above)
 
 
 def intervals(shooter: Shooter, sigma: np.ndarray, windows: list[Window], effect: Effect, params: np.ndarray,
