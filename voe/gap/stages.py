@@ -18,6 +18,7 @@ import pandas as pd
 
 from voe.errors import DataError
 from voe.gap.context import frame_labels, near_contact
+from voe.gap.departure import departure_p
 from voe.gap.effects import EFFECTS
 from voe.gap.effects.base import Effect, FitContext
 from voe.gap.fit import FitConfig, Fitter
@@ -75,6 +76,7 @@ class Location:
     z_threshold: float
     z_strong: float  # the clean replicate's largest window z: beyond it a stretch is a mismatch
     null_episodes: list[Episode]
+    departure_p: float = 1.0  # paired test: data's window z above the replicate's (voe.gap.departure)
 
 
 @dataclass(frozen=True)
@@ -113,7 +115,7 @@ def locate_step(p: Problem, config: GapConfig, rng: np.random.Generator) -> Loca
     z_strong = float(max(config.z_min, np.max(z_null)))
     z = window_z(p.shooter, windows, p.sigma)
     located = [x.to_dict() for x in locate(p.shooter, windows, z, z_thr)]
-    return Location(windows, located, z_thr, z_strong, null_eps)
+    return Location(windows, located, z_thr, z_strong, null_eps, departure_p(z.max(axis=(1, 2)), z_null))
 
 
 def search_step(p: Problem, loc: Location, config: GapConfig, max_effects: int, seed: int, n_jobs: int = 1,
