@@ -75,9 +75,10 @@ def test_jointed_scene_with_a_joint_effect():
     th = 1.2
     pose0 = np.array([[0.05 * math.sin(th), -0.05 * math.cos(th), th], [0.15 * math.sin(th), -0.15 * math.cos(th), th]])
     starts = [(pose0, np.zeros((2, 3))), (pose0 * 0.9, np.ones((2, 3)) * 0.1)]
-    times = [np.arange(81) / 100, np.arange(61) / 100]
-    eff = EFFECTS.get("joint_damping")()
-    p = np.array([2e-4])
+    times = [np.arange(81) / 100, np.arange(61) / 100, np.arange(71) / 100]
+    starts.append((pose0 * 1.1, -np.ones((2, 3)) * 0.2))
+    eff = EFFECTS.get("joint_damping")() + EFFECTS.get("joint_friction")() + EFFECTS.get("angular_damping")()
+    p = np.array([2e-4, 1e-3, 1e-4])
     for a, b in zip(run_many(scene, starts, times, 5e-4, eff, p), _reference(scene, starts, times, 5e-4, eff, p),
                     strict=True):
         np.testing.assert_array_equal(a, b)
