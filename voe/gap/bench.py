@@ -13,10 +13,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from voe.gap.bench_pendulum import double_pendulum_scene, random_start
 from voe.gap.finder import GapConfig, GapFinder
 from voe.gap.recordings import Episode
 from voe.gap.synth import ar1_noise, simulate_episode
-from voe.gap.truths import OUTSIDE, Gust, Hidden, compound_truths, hide, kind, single_truths
+from voe.gap.truths import OUTSIDE, Gust, Hidden, compound_truths, hide, kind, scene_kind, single_truths
 from voe.parallel import parallel_map
 from voe.sim.scenefile import BodySpec, SceneSpec, StaticSpec
 
@@ -53,6 +54,8 @@ def bench_scene(kind: str, rng: np.random.Generator) -> SceneSpec:
     """The bench scene an effect declares (``Effect.bench_scene``)."""
     if kind == "arena":
         return random_scene(rng)
+    if kind == "double_pendulum":
+        return double_pendulum_scene(rng)
     raise ValueError(f"unknown bench scene {kind!r}")
 
 
@@ -89,7 +92,9 @@ def _clean(rng: np.random.Generator, k: int, t: np.ndarray, pose0: np.ndarray, v
     t_true = t.copy()
     if noise_kind == "jitter":
         t_true[1:] += np.clip(rng.normal(0, 2e-3, len(t) - 1), -4e-3, 4e-3)
-    clean = simulate_episode(hidden.sim_scene, k, t_true, pose0, vel0, eff, hidden.params, np.zeros_like(sigma), rng)
+    sub = 5e-4 if hidden.sim_scene.joints else 1e-3  # as the finder (voe.gap.stages.prepare)
+    clean = simulate_episode(hidden.sim_scene, k, t_true, pose0, vel0, eff, hidden.params, np.zeros_like(sigma), rng,
+                             sub)
     return clean.pose, t_true
 
 
@@ -112,7 +117,9 @@ def _record(rng: np.random.Generator, k: int, t: np.ndarray, clean: np.ndarray, 
 
 def make_case(rng: np.random.Generator, truth: str, noise: float = 1e-3, episodes: int = 12,
               duration: float = 3.0, rate: float = 100.0, tries: int = 40, noise_kind: str = "white") -> Case:
-    """Simulate ``episodes`` recordings with the hidden ``truth`` (see ``voe.gap.truths``).
+    """Simulate ``episodes`` recordings with the hidden ``truth`` (see ``voe.gap.truths``) in the
+    truth's bench scene (``voe.gap.truths.scene_kind``: the arena, or the double pendulum for the
+    joint effects).
 
     Every episode is drawn so that the ball strikes the box, closing at 1 m/s or more (up to
     ``tries`` throws, judged on the clean simulation *with* the hidden physics, for every truth
@@ -121,12 +128,17 @@ def make_case(rng: np.random.Generator, truth: str, noise: float = 1e-3, episode
     the ball missed the box in most episodes. Twelve episodes give the finder six fitting, four
     selection and two test episodes.
     """
-    scene = random_scene(rng)
+    scene = bench_scene(scene_kind(truth), rng)
     hidden = hide(truth, scene, rng)
     t = np.arange(int(round(duration * rate)) + 1) / rate
     sigma = np.array([[noise, noise, 10 * noise]] * len(scene.bodies))  # (B, 3)
     eps = []
     for k in range(episodes):
+        if scene.joints:  # the double pendulum: any random swing turns both joints
+            pose0, vel0 = random_start(scene, rng)
+            clean, _ = _clean(rng, k, t, pose0, vel0, hidden, sigma, noise_kind)
+            eps.append(_record(rng, k, t, clean, sigma, noise_kind))
+            continue
         for _ in range(tries):
             xb = rng.uniform(-0.5, 1.0)
             pose0 = np.array([[xb - rng.uniform(1.5, 3.0), rng.uniform(0.3, 1.2), 0.0],

@@ -16,6 +16,7 @@ import numpy as np
 import pandas as pd
 
 from voe.gap.check import Checked, check_step, effect_dicts
+from voe.gap.departure import ALPHA
 from voe.gap.effects import EFFECTS
 from voe.gap.recordings import Episode
 from voe.gap.stages import GapConfig, Location, Problem, Search, locate_step, prepare, search_step
@@ -119,8 +120,9 @@ class GapFinder:
     def verdict_(self) -> str:
         if self.effects_:
             return "mismatch"
-        strong = [x for x in self.located_ if not x["z"] <= self.z_strong_]  # an infinite or NaN z is strong
-        return "unexplained" if strong else "consistent"
+        wild = any(not np.isfinite(x["z"]) for x in self.located_)
+        departs = self.location_.departure_p < ALPHA  # many windows, not one chaotic one (voe.gap.departure)
+        return "unexplained" if self.located_ and (wild or departs) else "consistent"
 
     @property
     def fit_(self) -> dict:
@@ -134,15 +136,25 @@ class GapFinder:
                 "test_episodes": [ids[i] for i in split.test] if not split.cross_validated else ids,
                 "threshold_gain": self.threshold_, "z_threshold": self.z_threshold_,
                 "residuals_look_like_noise": v.looks_like_noise,
-                "median_z_before": v.median_z_before, "median_z_after": v.median_z_after}
+                "median_z_before": v.median_z_before, "median_z_after": v.median_z_after,
+                "departure_p": self.location_.departure_p}
+
+    def _z_bar(self) -> float:
+        """The z the explanation lists stretches above: the clean replicate's largest window z, or
+        its 95th percentile when no located stretch exceeds the largest (an unexplained verdict
+        then rests on the paired test over all windows)."""
+        if self.verdict_ == "unexplained" and not any(not x["z"] <= self.z_strong_ for x in self.located_):
+            return self.z_threshold_
+        return self.z_strong_
 
     @property
     def explanation_(self) -> str:
         r0 = self.rounds_[0] if self.rounds_ else None
         best = max(r0.gains.items(), key=lambda kv: kv[1]) if r0 and r0.gains else None
         return explain(self.verdict_, self.effects_, self.groups_, self.located_, self.checked_.verification,
-                       self.threshold_, self.problem_.sigma, self.checked_.test_note, self.z_strong_,
-                       self.checked_.dropped, best, [r.basis for r in self._kept_rounds()])
+                       self.threshold_, self.problem_.sigma, self.checked_.test_note, self._z_bar(),
+                       self.checked_.dropped, best, [r.basis for r in self._kept_rounds()],
+                       self.location_.departure_p)
 
     def to_dict(self) -> dict:
         """The diagnosis as plain JSON-ready data (without provenance)."""

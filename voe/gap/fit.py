@@ -62,13 +62,14 @@ class Fitter:
         self.config = config or FitConfig()
         self.sigma, self.pool = sigma, pool
         self._weights = [1.0 / shooter.sigma_pred(w, sigma) for w in train]  # each (n, B, 3)
+        self._memo: dict[tuple, float] = {}  # (effect, params) -> training cost
 
     def _on(self, train: list[Window], weights: list[np.ndarray] | None = None) -> Fitter:
         """This fitter with other training windows (a shallow copy); ``weights`` if already known."""
         if weights is None:
             weights = [1.0 / self.shooter.sigma_pred(w, self.sigma) for w in train]
         sub = Fitter.__new__(Fitter)
-        sub.__dict__.update(self.__dict__, train=train, _weights=weights)
+        sub.__dict__.update(self.__dict__, train=train, _weights=weights, _memo={})
         return sub
 
     def focused(self, effect: Effect, x0: np.ndarray, lo: np.ndarray, hi: np.ndarray, scale: np.ndarray) -> Fitter:
@@ -105,24 +106,35 @@ class Fitter:
 
     def standardized(self, effect: Effect | None, params: np.ndarray | None) -> np.ndarray:
         """Training residuals divided by their expected size, flattened."""
-        parts = [(self.shooter.residual(w, effect, params) * wt).reshape(-1)
-                 for w, wt in zip(self.train, self._weights, strict=True)]
+        parts = [(r * wt).reshape(-1)
+                 for r, wt in zip(self.shooter.residuals(self.train, effect, params), self._weights, strict=True)]
         out = np.concatenate(parts)
         return np.nan_to_num(out, nan=1e6, posinf=1e6, neginf=-1e6)
 
     def heldout(self, effect: Effect | None, params: np.ndarray | None) -> float:
         """Held-out RMSE in metres (x, y and angle times sqrt(I/m))."""
-        return rmse([self.shooter.residual(w, effect, params) for w in self.test])
+        return rmse(self.shooter.residuals(self.test, effect, params))
 
     def heldout_sse(self, effect: Effect | None, params: np.ndarray | None) -> np.ndarray:
         """(W,) held-out sum of squared residuals per window (for the paired bootstrap)."""
-        return np.array([float(np.sum(self.shooter.residual(w, effect, params) ** 2)) for w in self.test])
+        return np.array([float(np.sum(r**2)) for r in self.shooter.residuals(self.test, effect, params)])
 
     def cost(self, effect: Effect | None, params: np.ndarray | None) -> float:
+        """Soft-L1 training cost; remembered per effect and exact parameter vector.
+
+        Why remember: scipy's Powell starts every line search by re-evaluating the point it
+        stands on, a clipped step can land on a point already simulated. A repeat costs a dictionary lookup instead of a rollout of
+        every training window, and the optimiser sees the same values, so it takes the same path.
+        The memory lasts one ``fit``.
+        """
+        key = (_effect_key(effect), None if params is None else np.asarray(params, dtype=float).tobytes())
+        if key in self._memo:
+            return self._memo[key]
         z = self.standardized(effect, params)
         fs = self.config.f_scale
         c = float(np.sum(2 * fs**2 * (np.sqrt(1 + (z / fs) ** 2) - 1)))
-        return c if np.isfinite(c) else 1e300
+        self._memo[key] = c = c if np.isfinite(c) else 1e300
+        return c
 
     def fit(self, effect: Effect, starts: list[np.ndarray] | None = None, max_nfev: int | None = None) -> FitResult:
         """Fit ``effect`` from the most promising of ``starts`` (default: the effect's own).
@@ -137,6 +149,7 @@ class Fitter:
             sse = self.heldout_sse(effect, np.zeros(0))
             return FitResult(effect, np.zeros(0), self.cost(effect, np.zeros(0)),
                              float(np.sqrt(sse.sum() / max(self._n_test, 1))), sse)
+        self._memo = {}  # per fit: the work, and the rollout count, must not depend on which process fitted before
         nfev = max_nfev or self.config.max_nfev
         lo, hi = effect.bounds(self.ctx)
         scale = effect.scale(self.ctx)
@@ -190,6 +203,12 @@ class Fitter:
         res = minimize(f, u0, method="Powell", options={"maxfev": max(nfev * effect.n_params, 40), "xtol": 0.01,
                                                         "ftol": 1e-4, "direc": 0.3 * np.eye(len(u0))})
         return np.clip(res.x, lo_u, hi_u) * scale, float(res.fun)
+
+
+def _effect_key(effect: Effect | None) -> tuple:
+    """What decides an effect's physics: its parts' classes and bodies (not the object's identity,
+    which Python may reuse after an effect is freed)."""
+    return () if effect is None else tuple((type(e).__module__, type(e).__qualname__, e.bodies) for e in effect.parts)
 
 
 def extend(current: Effect | None, params: np.ndarray, cand: Effect, ctx: FitContext) -> tuple[Effect, list[np.ndarray]]:

@@ -64,8 +64,8 @@ class FoldedFitter:
 
     def residuals(self, effect: Effect | None, fold_params: tuple[np.ndarray, ...] | None) -> list[np.ndarray]:
         """Selection-window residuals (n, B, 3) per window, in ``test`` order."""
-        return [self.shooter.residual(w, effect, None if fold_params is None else fold_params[k])
-                for k, f in enumerate(self.folds) for w in f.test]
+        return [r for k, f in enumerate(self.folds)
+                for r in self.shooter.residuals(f.test, effect, None if fold_params is None else fold_params[k])]
 
 
 def without(res: FitResult, k: int) -> tuple[Effect | None, tuple[np.ndarray, ...]]:

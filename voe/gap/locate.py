@@ -40,8 +40,8 @@ class Located:
 def window_z(shooter: Shooter, windows: list[Window], sigma: np.ndarray) -> np.ndarray:
     """(W, B, 3) RMS standardised residual of the nominal model in each window."""
     out = []
-    for w in windows:
-        r = shooter.residual(w, None, None) / shooter.sigma_pred(w, sigma)  # (n, B, 3)
+    for w, res in zip(windows, shooter.residuals(windows, None, None), strict=True):
+        r = res / shooter.sigma_pred(w, sigma)  # (n, B, 3)
         out.append(np.sqrt(np.mean(r[1:] ** 2, axis=0)))
     return np.array(out)
 

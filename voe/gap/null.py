@@ -19,7 +19,7 @@ import numpy as np
 from voe.gap.effects.base import Effect
 from voe.gap.fit import FitResult
 from voe.gap.folds import FoldedFitter
-from voe.gap.search import accept, candidate_gains, null_threshold
+from voe.gap.search import RoundTask, accept_all, fit_rounds, null_threshold
 
 
 @dataclass(frozen=True)
@@ -38,7 +38,13 @@ class NullRound:
 
 
 class NullSearch:
-    """Runs the search on clean data round by round; ``threshold(r)`` computes rounds up to ``r``."""
+    """Runs the search on clean data round by round.
+
+    ``threshold(r)`` computes the rounds up to ``r`` itself; the greedy loop instead fits the
+    null's round alongside the data's (``due``, ``task``, ``record``) and refines the forced
+    candidate alongside the data's winner (``pending``, ``accepted``). Either way every round is
+    the same fit; a forced candidate is refined only when a next round is needed.
+    """
 
     def __init__(self, fitter: FoldedFitter, candidates: dict[str, Effect], alpha: float, min_gain: float,
                  seed: int, progress: Callable[[str], None] | None = None, n_jobs: int = 1) -> None:
@@ -48,18 +54,32 @@ class NullSearch:
         self.current: FitResult | None = None
         self.before_sse = fitter.heldout_sse()
         self.rounds: list[NullRound] = []
+        self._forced: tuple[FitResult, float] | None = None  # forced in, not yet refined
 
-    def threshold(self, r: int) -> float:
-        while len(self.rounds) <= r:
-            if not self.pool or (self.rounds and self.rounds[-1].forced is None):
-                self.rounds.append(self.rounds[-1])  # nothing left to force in: same threshold
-                continue
-            self._advance()
-        return self.rounds[r].threshold
+    def due(self, r: int) -> bool:
+        """Whether round ``r`` is the next one and needs fitting (not a repeat of the last)."""
+        return len(self.rounds) == r and self._open()
 
-    def _advance(self) -> None:
-        results, gains = candidate_gains(self.fitter, self.pool, self.current, self.before_sse, self.progress,
-                                         self.n_jobs)
+    def _open(self) -> bool:
+        return bool(self.pool) and not (self.rounds and self.rounds[-1].forced is None)
+
+    def task(self) -> RoundTask:
+        """The next round's fits (the pending forced candidate is refined first)."""
+        if self._forced is not None:
+            self.accepted(accept_all([self.pending()])[0])
+        return RoundTask(self.fitter, self.pool, self.current, self.before_sse, self.progress)
+
+    def pending(self) -> tuple[FoldedFitter, FitResult, float, np.ndarray] | None:
+        """The refine step owed for the last forced candidate, as ``accept_all`` takes it."""
+        return None if self._forced is None else (self.fitter, *self._forced, self.before_sse)
+
+    def accepted(self, refined: FitResult) -> None:
+        """The forced candidate, refined, becomes the current model of the next round."""
+        self.current, self._forced = refined, None
+        self.before_sse = refined.window_sse
+
+    def record(self, results: dict[str, FitResult], gains: dict[str, float]) -> None:
+        """Close a round from its fits: threshold, quantiles, forced candidate."""
         q, best = null_threshold(self.before_sse, results, self.alpha, self.seed)
         finite = {k: g for k, g in gains.items() if np.isfinite(g)}
         thr = float(max(self.min_gain, q, max(finite.values(), default=0.0)))
@@ -67,9 +87,16 @@ class NullSearch:
         quant = {str(p): (float(np.quantile(best, p)) if best.size else None) for p in (0.5, 0.95, 0.99)}
         self.rounds.append(NullRound(thr, gains, forced, quant))
         if forced is not None:
-            self.current = accept(self.fitter, results[forced], gains[forced], self.before_sse)
-            self.before_sse = self.current.window_sse
+            self._forced = (results[forced], gains[forced])
             self.pool.pop(forced)
+
+    def threshold(self, r: int) -> float:
+        while len(self.rounds) <= r:
+            if not self._open():
+                self.rounds.append(self.rounds[-1])  # nothing left to force in: same threshold
+                continue
+            self.record(*fit_rounds([self.task()], self.progress, self.n_jobs)[0])
+        return self.rounds[r].threshold
 
     def result(self) -> tuple[NullRound, ...]:
         return tuple(self.rounds)

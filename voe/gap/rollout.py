@@ -1,21 +1,25 @@
-"""Fast rollouts of a ``SimWorld`` under an effect: the inner loop of every fit.
+"""Fast rollouts of windows under an effect: the inner loop of every fit.
 
-Why: a fit simulates thousands of short windows, and with a force effect most of the time went
-into Python bookkeeping around each velocity kick (building a full ``SimState``, re-checking the
-parameter vector, rebuilding the body mask), not into pymunk. It uses the stepping
-loop of ``SimWorld.run`` itself (same substeps, a kick of impulse F * dt_kick before every
-``kick_every``-th substep), so recordings simulated with ``SimWorld.run`` and fits made here agree
-to rounding, but its kick reads the state with one pass over the bodies and calls a force
-function prepared once per rollout (``Effect.prepare``).
+Why: a fit simulates thousands of short windows, and nearly all of the time went into Python
+around pymunk (the ``Space.step`` wrapper, ``Vec2d`` properties, building a ``SimState`` and
+calling a numpy force law on (B,) arrays at every kick), not into pymunk. ``run_many`` steps the
+windows that share an effect and its parameters side by side (``voe.sim.lockstep``): each space is
+stepped in C, and at each kick one call of the force law, prepared once for the scene tiled W
+times (``Effect.prepare``), serves all W windows. Substeps, kicks (an impulse F * dt_kick before
+every ``kick_every``-th substep) and arithmetic are those of ``SimWorld.run``, so recordings
+simulated with ``SimWorld.run`` and fits made here agree to the last bit.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 
 import numpy as np
 
-from voe.sim.scenefile import SimState, SimWorld
+from voe.gap.effects.base import Effect
+from voe.sim.lockstep import run_lockstep
+from voe.sim.scenefile import Materials, SceneSpec, SimState, SimWorld
 
 KICK_EVERY = 4e-3  # s, as SimWorld.run
 
@@ -29,21 +33,53 @@ def run(world: SimWorld, times: np.ndarray, substep: float, force: PreparedForce
     Args:
         force: maps the state to (force (B, 2) N, torque (B,) N m); None for the nominal scene.
     """
-    if force is None:
-        return world.run(times, substep)
-    bodies, st0 = world.bodies, world.state()
-    return world.run(times, substep, kick_every=kick_every, kick=lambda dt: _kick(bodies, st0, force, dt))
+    return run_lockstep([world], [times], substep, force, kick_every)[0]
 
 
-def _kick(bodies: list, st0: SimState, force: PreparedForce, dt: float) -> None:
-    vel = np.array([b.velocity for b in bodies])  # (B, 2)
-    st = SimState(np.array([b.position for b in bodies]), vel, np.array([b.angle for b in bodies]),
-                  np.array([b.angular_velocity for b in bodies]), st0.mass, st0.moment, st0.gravity, st0.contact)
-    f, tau = force(st)  # (B, 2), (B,)
-    v_new = (vel + f * (dt / st0.mass)[:, None]).tolist()  # (B, 2)
-    w_new = (st.omega + tau * dt / st0.moment).tolist()  # (B,)
-    for b, v, w, fb, tb in zip(bodies, v_new, w_new, f.tolist(), tau.tolist(), strict=True):
-        if fb[0] or fb[1]:
-            b.velocity = v
-        if tb:
-            b.angular_velocity = w
+def tiled(scene: SceneSpec, n: int) -> SceneSpec:
+    """``scene`` with its bodies repeated ``n`` times: what a force law prepared for ``n`` stacked
+    windows sees. Without joints the names repeat, so an effect limited to a body acts on that
+    body in every copy; with joints each copy's bodies and joints are renamed (``arm#2``), so a
+    joint effect finds each copy's joints (``run_many`` then stacks only effects on all bodies)."""
+    if n == 1:
+        return scene
+    if not scene.joints:
+        return replace(scene, bodies=scene.bodies * n, joints=())
+    bodies = tuple(replace(b, name=f"{b.name}#{k}") for k in range(n) for b in scene.bodies)
+    joints = tuple(replace(j, a=f"{j.a}#{k}", b=None if j.b is None else f"{j.b}#{k}")
+                   for k in range(n) for j in scene.joints)
+    return replace(scene, bodies=bodies, joints=joints)
+
+
+def stackable(scene: SceneSpec, effect: Effect | None) -> bool:
+    """Whether ``effect``'s force law can be prepared for stacked copies of ``scene``: always
+    without joints; with joints (renamed copies) only if no force part is limited to named bodies."""
+    return effect is None or not scene.joints or all(e.bodies is None for e in effect.parts if e.has_forces)
+
+
+def run_many(scene: SceneSpec, starts: list[tuple[np.ndarray, np.ndarray]], times: list[np.ndarray], substep: float,
+             effect: Effect | None, params: np.ndarray | None, kick_every: float = KICK_EVERY) -> list[np.ndarray]:
+    """Simulate several windows of ``scene`` under one effect and parameter vector.
+
+    Args:
+        starts: (pose (B, 3), vel (B, 3)) at the start of each window.
+        times: (T_i,) sample times of each window.
+
+    Returns:
+        Poses (T_i, B, 3) per window, each exactly as ``run`` would give it alone.
+
+    A force part limited to named bodies on a scene with joints cannot be stacked
+    (``stackable``); its windows go one at a time.
+    """
+    mats: Materials | None = effect.materials(params, scene) if effect is not None else None
+    worlds = [SimWorld(scene, pose0, vel0, mats) for pose0, vel0 in starts]
+    if not worlds:
+        return []
+    groups = [list(range(len(worlds)))] if stackable(scene, effect) else [[i] for i in range(len(worlds))]
+    out: list[np.ndarray] = [np.empty(0)] * len(worlds)
+    for g in groups:
+        force = effect.prepare(params, tiled(scene, len(g))) if effect is not None else None
+        for i, pose in zip(g, run_lockstep([worlds[i] for i in g], [times[i] for i in g], substep, force,
+                                           kick_every), strict=True):
+            out[i] = pose
+    return out

@@ -28,7 +28,7 @@ import numpy as np
 
 from voe.gap.effects.base import Effect
 from voe.gap.fit import FitResult
-from voe.gap.folds import FoldedFitter, as_sum
+from voe.gap.folds import FoldedFitter
 from voe.parallel import parallel_map
 
 GROUP_TOL = 0.10  # selection error ratio within 10 % of the winner's counts as indistinguishable
@@ -106,34 +106,65 @@ class Round:
                 "gains": {k: (round(g, 4) if np.isfinite(g) else None) for k, g in self.gains.items()}}
 
 
+@dataclass(frozen=True)
+class RoundTask:
+    """One search's round: fit every candidate in ``pool`` on top of ``current``; gains against
+    ``before_sse`` (W,)."""
+
+    fitter: FoldedFitter
+    pool: dict[str, Effect]
+    current: FitResult | None
+    before_sse: np.ndarray
+    note: Callable[[str], None] | None = None  # progress per fitted candidate (else ``fit_rounds``'s)
+
+
+def fit_rounds(tasks: list[RoundTask], progress: Callable[[str], None] | None = None,
+               n_jobs: int = 1) -> list[tuple[dict[str, FitResult], dict[str, float]]]:
+    """(results, gains) of every task, all candidate fits of all tasks in one parallel loop.
+
+    Why together: the data's round and the null's same round are independent and equally
+    expensive; fitting their candidates in one loop keeps ``n_jobs`` processes busy where two
+    loops in a row would each end waiting for their slowest fit. Fits with more parameters (Powell,
+    the slowest) are started first. With ``n_jobs > 1`` the fits run in forked processes, which
+    inherit the fitters (pymunk scenes, recordings) instead of pickling them; each fit is
+    deterministic, so results and their order do not depend on ``n_jobs``.
+    """
+    items = [(t, k) for t, task in enumerate(tasks) for k in task.pool]
+    items.sort(key=lambda it: -tasks[it[0]].pool[it[1]].n_params)  # stable: otherwise in pool order
+    shooters = {id(t.fitter.shooter): t.fitter.shooter for t in tasks}
+    start = {i: sh.n_rollouts for i, sh in shooters.items()}
+    spent = dict.fromkeys(shooters, 0)
+    found: dict[tuple[int, str], FitResult] = {}
+    for (t, key), (res, n_roll) in zip(items, parallel_map(lambda it: _fit_one(it, tasks), items, n_jobs,
+                                                           start_method="fork"), strict=True):
+        found[(t, key)] = res
+        spent[id(tasks[t].fitter.shooter)] += n_roll
+        note = tasks[t].note or progress
+        if note:
+            note(key)
+    for i, sh in shooters.items():  # forked workers counted in their own copies
+        sh.n_rollouts = start[i] + spent[i]
+    out = []
+    for t, task in enumerate(tasks):
+        results = {k: found[(t, k)] for k in task.pool}  # pool order: ties go to the first, as before
+        out.append((results, {k: window_gain(task.before_sse, r.window_sse) for k, r in results.items()}))
+    return out  # a gain is -inf for a rollout that blew up
+
+
 def candidate_gains(fitter: FoldedFitter, candidates: dict[str, Effect], current: FitResult | None,
                     before_sse: np.ndarray, progress: Callable[[str], None] | None = None,
                     n_jobs: int = 1) -> tuple[dict[str, FitResult], dict[str, float]]:
-    """Fit ``current + c`` for every candidate; gain = ``window_gain`` against ``before_sse`` (W,).
-
-    With ``n_jobs > 1`` the candidates are fitted in that many forked processes. Why fork: the
-    fitter holds pymunk scenes and recordings; forked workers inherit them instead of pickling
-    them, and each candidate's fit is deterministic, so the results do not depend on ``n_jobs``.
-    """
-    results: dict[str, FitResult] = {}
-    task = (fitter, candidates, current)
-    n0, spent = fitter.shooter.n_rollouts, 0
-    for key, res, n_roll in parallel_map(lambda k: _fit_one(k, task), list(candidates), n_jobs, start_method="fork"):
-        results[key] = res
-        spent += n_roll
-        if progress:
-            progress(key)
-    fitter.shooter.n_rollouts = n0 + spent  # forked workers counted in their own copies
-    gains = {k: window_gain(before_sse, r.window_sse) for k, r in results.items()}  # -inf for a rollout that blew up
-    return results, gains
+    """Fit ``current + c`` for every candidate; gain = ``window_gain`` against ``before_sse`` (W,)."""
+    return fit_rounds([RoundTask(fitter, candidates, current, before_sse)], progress, n_jobs)[0]
 
 
-def _fit_one(key: str, task: tuple) -> tuple[str, FitResult, int]:
-    """Fit candidate ``key`` of ``task``; returns the rollouts it cost."""
-    fitter, candidates, current = task
-    n0 = fitter.shooter.n_rollouts
-    res = fitter.fit_candidate(current, candidates[key])
-    return key, res, fitter.shooter.n_rollouts - n0
+def _fit_one(item: tuple[int, str], tasks: list[RoundTask]) -> tuple[FitResult, int]:
+    """Fit candidate ``key`` of task ``t``; returns the result and the rollouts it cost."""
+    t, key = item
+    task = tasks[t]
+    n0 = task.fitter.shooter.n_rollouts
+    res = task.fitter.fit_candidate(task.current, task.pool[key])
+    return res, task.fitter.shooter.n_rollouts - n0
 
 
 def context_match(effect_contexts: tuple[str, ...], located: set[str]) -> bool:
@@ -187,45 +218,19 @@ def accept(fitter: FoldedFitter, res: FitResult, gain: float, before_sse: np.nda
     return ref if window_gain(before_sse, ref.window_sse) >= gain else res
 
 
-@dataclass(frozen=True)
-class SearchResult:
-    """What the greedy search accepted (``model`` is None when nothing was) and every round."""
+def accept_all(items: list[tuple[FoldedFitter, FitResult, float, np.ndarray]], n_jobs: int = 1) -> list[FitResult]:
+    """``accept`` of each (fitter, result, gain, before_sse), in parallel: the data's winner and
+    the null's forced candidate are refined at the same time (forked workers inherit the
+    fitters; only indices and results are pickled)."""
+    out = []
+    runs = parallel_map(lambda i: _accept_one(items[i]), range(len(items)), n_jobs, start_method="fork")
+    for (fitter, *_), (res, n_roll) in zip(items, runs, strict=True):
+        out.append(res)
+        if n_jobs > 1 and len(items) > 1:
+            fitter.shooter.n_rollouts += n_roll  # counted in the forked worker's copy
+    return out
 
-    model: FitResult | None
-    rounds: tuple[Round, ...]
-    keys: tuple[str, ...]  # candidate key of each accepted part, in order
 
-    @property
-    def groups(self) -> list[list[str]]:
-        return [list(r.group) for r in self.rounds if r.winner]
-
-
-def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], threshold: Callable[[int], float], max_effects: int,
-           contexts: set[str], noise: float, progress: Callable[[str], None] | None = None,
-           lower_q: float | None = 0.05, n_jobs: int = 1) -> SearchResult:
-    """Add effects one at a time while the selection gain beats ``threshold(round)`` (and, if
-    ``lower_q`` is set, while its bootstrap ``lower_q`` quantile stays positive)."""
-    current: FitResult | None = None
-    before_sse = fitter.heldout_sse()
-    rounds: list[Round] = []
-    keys: list[str] = []
-    pool = dict(candidates)
-    for r in range(max_effects):
-        thr = threshold(r)
-        results, gains = candidate_gains(fitter, pool, current, before_sse, progress, n_jobs)
-        lower = {k: gain_lower_bound(before_sse, x.window_sse, q=lower_q or 0.05) for k, x in results.items()}
-        group = choose(gains, lower if lower_q else {}, thr)
-        before = float(np.sqrt(before_sse.sum() / max(1, sum(f._n_test for f in fitter.folds))))
-        if not group:
-            rounds.append(Round(before, results, gains, lower, thr))
-            break
-        winner, kept, basis = (group[0], (group[0],), "alone") if len(group) == 1 else \
-            tie_break(fitter, group, results, pool, contexts, gains, noise)
-        rounds.append(Round(before, results, gains, lower, thr, winner, kept, basis))
-        current = accept(fitter, results[winner], gains[winner], before_sse)
-        before_sse = current.window_sse
-        keys.append(winner)
-        pool.pop(winner)  # the group's other members stay candidates
-        if not pool:
-            break
-    return SearchResult(as_sum(current) if current is not None else None, tuple(rounds), tuple(keys))
+def _accept_one(item: tuple[FoldedFitter, FitResult, float, np.ndarray]) -> tuple[FitResult, int]:
+    n0 = item[0].shooter.n_rollouts
+    return accept(*item), item[0].shooter.n_rollouts - n0

@@ -16,8 +16,8 @@ import numpy as np
 
 from voe.gap.effects.base import Effect
 from voe.gap.recordings import Episode
-from voe.gap.rollout import run
-from voe.sim.scenefile import SceneSpec, SimWorld
+from voe.gap.rollout import run_many
+from voe.sim.scenefile import SceneSpec
 
 HALF = 7  # samples on each side for the velocity fit
 ORDER = 3  # cubic: a quadratic biases the speed of a fast pendulum by ~2 %
@@ -162,19 +162,25 @@ class Shooter:
 
     def simulate(self, win: Window, effect: Effect | None, params: np.ndarray | None) -> np.ndarray:
         """Predicted poses (n, B, 3) over the window's samples."""
-        ep = self.episodes[win.ep]
-        pose0, vel0, _ = self.initial(win.ep, win.k0)
-        mats = effect.materials(params, self.scene) if effect is not None else None
-        world = SimWorld(self.scene, pose0, vel0, mats)
-        force = effect.prepare(params, self.scene) if effect is not None else None
-        self.n_rollouts += 1
-        return run(world, ep.t[win.k0:win.k1 + 1], self.substep, force)
+        return self.simulate_many([win], effect, params)[0]
+
+    def simulate_many(self, wins: list[Window], effect: Effect | None, params: np.ndarray | None) -> list[np.ndarray]:
+        """Predicted poses (n_i, B, 3) of every window, simulated side by side (``run_many``);
+        each is the same as ``simulate`` gives it alone."""
+        starts = [self.initial(w.ep, w.k0)[:2] for w in wins]
+        times = [self.episodes[w.ep].t[w.k0:w.k1 + 1] for w in wins]
+        self.n_rollouts += len(wins)
+        return run_many(self.scene, starts, times, self.substep, effect, params)
 
     def residual(self, win: Window, effect: Effect | None, params: np.ndarray | None) -> np.ndarray:
         """Prediction minus recording, (n, B, 3), angle converted to metres by sqrt(I/m)."""
-        pred = self.simulate(win, effect, params)
-        rec = self.episodes[win.ep].pose[win.k0:win.k1 + 1]
-        return (pred - rec) * self.scale[None]
+        return self.residuals([win], effect, params)[0]
+
+    def residuals(self, wins: list[Window], effect: Effect | None, params: np.ndarray | None) -> list[np.ndarray]:
+        """``residual`` of every window, simulated side by side."""
+        preds = self.simulate_many(wins, effect, params)
+        return [(pred - self.episodes[w.ep].pose[w.k0:w.k1 + 1]) * self.scale[None]
+                for w, pred in zip(wins, preds, strict=True)]
 
     def sigma_pred(self, win: Window, sigma: np.ndarray) -> np.ndarray:
         """(n, B, 3) expected |residual| of a correct model: noise plus integrated velocity error."""
@@ -212,7 +218,7 @@ def choose_half(scene: SceneSpec, episodes: list[Episode], windows: list[Window]
     scores = []
     for h in options:
         sh = Shooter(scene, episodes, substep, h)
-        scores.append(float(np.median([np.sqrt(np.mean(sh.residual(w, None, None) ** 2)) for w in sample])))
+        scores.append(float(np.median([np.sqrt(np.mean(r**2)) for r in sh.residuals(sample, None, None)])))
     return options[int(np.argmin(scores))]
 
 

@@ -18,16 +18,17 @@ import pandas as pd
 
 from voe.errors import DataError
 from voe.gap.context import frame_labels, near_contact
+from voe.gap.departure import departure_p
 from voe.gap.effects import EFFECTS
 from voe.gap.effects.base import Effect, FitContext
 from voe.gap.fit import FitConfig, Fitter
 from voe.gap.folds import FoldedFitter
+from voe.gap.greedy import SearchResult, greedy
 from voe.gap.locate import locate, window_z
 from voe.gap.null import NullRound, NullSearch
 from voe.gap.prefit import flight_samples
 from voe.gap.recordings import Episode, load_recordings
 from voe.gap.scene import load_scene, resolve_joints
-from voe.gap.search import SearchResult, greedy
 from voe.gap.shooting import Shooter, Window, choose_half, make_windows, noise_model
 from voe.gap.split import Split, split_episodes
 from voe.gap.synth import null_like
@@ -75,6 +76,7 @@ class Location:
     z_threshold: float
     z_strong: float  # the clean replicate's largest window z: beyond it a stretch is a mismatch
     null_episodes: list[Episode]
+    departure_p: float = 1.0  # paired test: data's window z above the replicate's (voe.gap.departure)
 
 
 @dataclass(frozen=True)
@@ -84,6 +86,7 @@ class Search:
     result: SearchResult
     null: tuple[NullRound, ...]
     fitter: FoldedFitter
+    null_rollouts: int = 0  # windows the null's search simulated (the data's: ``Problem.shooter.n_rollouts``)
 
 
 def prepare(scene: str | Path | SceneSpec, recordings: str | Path | pd.DataFrame | list[Episode],
@@ -112,7 +115,7 @@ def locate_step(p: Problem, config: GapConfig, rng: np.random.Generator) -> Loca
     z_strong = float(max(config.z_min, np.max(z_null)))
     z = window_z(p.shooter, windows, p.sigma)
     located = [x.to_dict() for x in locate(p.shooter, windows, z, z_thr)]
-    return Location(windows, located, z_thr, z_strong, null_eps)
+    return Location(windows, located, z_thr, z_strong, null_eps, departure_p(z.max(axis=(1, 2)), z_null))
 
 
 def search_step(p: Problem, loc: Location, config: GapConfig, max_effects: int, seed: int, n_jobs: int = 1,
@@ -125,9 +128,9 @@ def search_step(p: Problem, loc: Location, config: GapConfig, max_effects: int, 
                       config.min_gain, seed, lambda k: note(f"null: {k}"), n_jobs)
     contexts = {x["context"] for x in loc.located} or _all_labels(p.scene, p.episodes)
     noise = float(np.median(p.sigma[:, :2]))
-    res = greedy(data, p.candidates, null.threshold, max_effects, contexts, noise, lambda k: note(f"fit: {k}"),
+    res = greedy(data, p.candidates, null, max_effects, contexts, noise, lambda k: note(f"fit: {k}"),
                  config.gain_lower_q, n_jobs)
-    return Search(res, null.result(), data)
+    return Search(res, null.result(), data, null_shooter.n_rollouts)
 
 
 def context_for(scene: SceneSpec, episodes: list[Episode]) -> FitContext:

@@ -32,6 +32,14 @@ def compound_truths() -> tuple[str, ...]:
     return tuple("+".join(c) for c in COMPOUNDS)
 
 
+def scene_kind(truth: str) -> str:
+    """The bench scene a truth is concealed in: a single effect's own ``bench_scene``, else the
+    arena (clean, compound and out-of-library cases)."""
+    if kind(truth) == "single" and truth != "none":
+        return EFFECTS.get(truth).bench_scene or "arena"
+    return "arena"
+
+
 def kind(truth: str) -> str:
     """``single``, ``compound`` or ``outside``."""
     return "outside" if truth in OUTSIDE else "compound" if "+" in truth else "single"

@@ -1,4 +1,5 @@
-"""95 % intervals of fitted parameters: a bootstrap over fitting windows, linearised.
+"""95 % intervals of fitted parameters: a bootstrap over fitting windows, linearised, widened by
+a factor calibrated on development seeds.
 
 Why: a point value (``b = 0.000182``) says nothing about whether the effect is there at all. The
 fit's cost is a sum over windows, so resampling windows with replacement is the natural
@@ -6,10 +7,13 @@ bootstrap (windows, not samples: residuals within a window are correlated throug
 estimated initial state). Refitting through the simulator for every resample would cost hundreds
 of fits, so each resample takes one Gauss-Newton step from the fitted parameters instead, using
 per-window gradients and curvatures computed once (one extra rollout per window and parameter,
-finite differences, soft-L1 weights at the fit). A parameter that moves no window's prediction
-gets the whole bounded range: no information is not certainty. An interval containing the
-effect's nominal value (zero strength, the scene's own coefficient) means the effect is not
-established, and the finder does not report it.
+finite differences, soft-L1 weights at the fit). The raw bootstrap held the true value in only
+73 % of development cases, so the interval (the hull of the fit and the bootstrap's percentile
+interval) is widened about its centre by ``INFLATE`` (see its calibration note) and is never
+narrower than the fit's own tolerance. A parameter that moves no window's prediction gets the
+whole bounded range: no information is not certainty. An interval containing the effect's
+nominal value (zero strength, the scene's own coefficient) means the effect is not established,
+and the finder does not report it.
 """
 
 from __future__ import annotations
@@ -21,6 +25,18 @@ from voe.gap.shooting import Shooter, Window
 
 N_BOOT = 400
 LEVEL = 0.95
+# Calibrated on development seeds 0-7 with bench/gap_coverage.py (96 cases: 8 of each effect
+# with a bench scene, the true effect fitted as the search fits it). Share of intervals holding
+# the true parameters: window bootstrap as is 70/96 (73 %), widened 1.5x 86/96, 2x 90/96 (94 %),
+# 2.5x 92/96; the episode bootstrap needs more (65/96 as is, 87/96 at 2x: six fitting episodes
+# are too few clusters for percentiles). Why the raw bootstrap is too narrow: the fit stops after
+# a dozen evaluations, not at the optimum, and its residual error is not resampling noise;
+# windows share start-state errors. The four cases no factor covers are point_attractor fits
+# stuck in a wrong optimum (k = 9-11 against 1.2-1.5), which no interval about the fit can mend.
+# 2x rather than 2.5x: wider intervals would also drop weak true effects as not established.
+INFLATE = 2.0
+TOL = 0.01  # parameter scales: the fit's own tolerance (voe.gap.fit, xatol / Powell xtol)
+BY_EPISODE = False  # resample windows (see the calibration above)
 
 
 def intervals(shooter: Shooter, sigma: np.ndarray, windows: list[Window], effect: Effect, params: np.ndarray,
@@ -33,10 +49,19 @@ def intervals(shooter: Shooter, sigma: np.ndarray, windows: list[Window], effect
     whether each part is needed at all is what the refit without it decides
     (``voe.gap.check``).
     """
+    terms = window_terms(shooter, sigma, windows, effect, params, ctx, f_scale)
+    return bootstrap(terms, effect, params, ctx, seed)
+
+
+def window_terms(shooter: Shooter, sigma: np.ndarray, windows: list[Window], effect: Effect, params: np.ndarray,
+                 ctx: FitContext, f_scale: float = 3.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Per-window Gauss-Newton curvature (W, P, P), gradient (W, P) and episode index (W,) of
+    the soft-L1 cost at ``params`` (finite differences, one extra rollout per window and
+    parameter); windows whose prediction is not finite are left out."""
     lo_b, hi_b = effect.bounds(ctx)
     scale = effect.scale(ctx)
     n_p = len(params)
-    h_list, g_list = [], []
+    h_list, g_list, e_list = [], [], []
     for w in windows:
         wt = 1.0 / shooter.sigma_pred(w, sigma)  # (n, B, 3)
         r0 = (shooter.residual(w, effect, params) * wt).reshape(-1)
@@ -54,33 +79,72 @@ def intervals(shooter: Shooter, sigma: np.ndarray, windows: list[Window], effect
         jw = jac * irls[:, None]
         h_list.append(jw.T @ jac)
         g_list.append(jw.T @ r0)
+        e_list.append(w.ep)
     if not h_list:
+        return np.zeros((0, n_p, n_p)), np.zeros((0, n_p)), np.zeros(0, dtype=int)
+    return np.stack(h_list), np.stack(g_list), np.array(e_list)
+
+
+def bootstrap(terms: tuple[np.ndarray, np.ndarray, np.ndarray], effect: Effect, params: np.ndarray,
+              ctx: FitContext, seed: int = 0, inflate: float | None = None,
+              by_episode: bool = BY_EPISODE) -> tuple[np.ndarray, np.ndarray]:
+    """The 95 % interval from per-window terms (``window_terms``): the bootstrap's percentile
+    interval (``quantiles``) joined with the fitted value, widened about its centre by
+    ``inflate`` (default ``INFLATE``), at least the fit's own tolerance, within the bounds; a
+    parameter that moves no prediction gets its whole bounded range."""
+    lo_b, hi_b = effect.bounds(ctx)
+    if len(terms[0]) == 0:
         return lo_b.astype(float), hi_b.astype(float)
-    hs, gs = np.stack(h_list), np.stack(g_list)  # (W, P, P), (W, P)
+    q_lo, q_hi, blind = quantiles(terms, effect, params, ctx, seed, by_episode)
+    lo, hi = widen(params, q_lo, q_hi, effect.scale(ctx), INFLATE if inflate is None else inflate)
+    lo, hi = np.clip(lo, lo_b, hi_b), np.clip(hi, lo_b, hi_b)
+    return np.where(blind, lo_b, lo), np.where(blind, hi_b, hi)
+
+
+def widen(params: np.ndarray, q_lo: np.ndarray, q_hi: np.ndarray, scale: np.ndarray, k: float) -> tuple[np.ndarray, np.ndarray]:
+    """(P,) ends: the hull of ``params`` and [q_lo, q_hi], widened ``k`` times about its centre,
+    and never narrower than +-``TOL`` parameter scales (the fit stops within about 1 % of a
+    scale, ``voe.gap.fit``: an interval narrower than that claims more than the fit knows)."""
+    a, b = np.minimum(params, q_lo), np.maximum(params, q_hi)
+    c, half = (a + b) / 2, np.maximum((b - a) / 2, TOL * scale)
+    return c - k * half, c + k * half
+
+
+def quantiles(terms: tuple[np.ndarray, np.ndarray, np.ndarray], effect: Effect, params: np.ndarray,
+              ctx: FitContext, seed: int = 0, by_episode: bool = BY_EPISODE) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(P,) 2.5 and 97.5 percentiles of one Gauss-Newton step from ``params`` over resamples of
+    the windows (or of whole episodes), and (P,) which parameters no window informs.
+
+    Each part of a sum is stepped with the other parts held at their fitted values.
+    """
+    hs, gs, eps = terms
+    scale = effect.scale(ctx)
     info = np.diag(hs.sum(axis=0)) * scale**2  # cost curvature per scale step, summed over windows
     blind = info < 1.0
+    if not by_episode:
+        eps = np.arange(len(eps))
+    groups = [np.flatnonzero(eps == e) for e in np.unique(eps)]
+    h_g = np.stack([hs[g].sum(axis=0) for g in groups])  # (G, P, P)
+    g_g = np.stack([gs[g].sum(axis=0) for g in groups])  # (G, P)
     rng = np.random.default_rng(seed)
-    idx = rng.integers(0, len(hs), size=(N_BOOT, len(hs)))
+    idx = rng.integers(0, len(groups), size=(N_BOOT, len(groups)))
     ridge = 1e-9 * np.diag(1.0 / scale**2)
+    lo_b, hi_b = effect.bounds(ctx)
     draws = np.tile(params, (N_BOOT, 1)).astype(float)  # (N, P)
     i = 0
     for e in effect.parts:
         sl = slice(i, i + e.n_params)
         i += e.n_params
         for n, row in enumerate(idx):
-            h, g = hs[row].sum(axis=0) + ridge, gs[row].sum(axis=0)
+            h, g = h_g[row].sum(axis=0) + ridge, g_g[row].sum(axis=0)
             try:
                 draws[n, sl] = _step(params[sl], h[sl, sl], g[sl], lo_b[sl], hi_b[sl])
             except np.linalg.LinAlgError:
                 draws[n, sl] = np.nan
-    th = np.clip(draws, lo_b, hi_b)  # (N, P)
-    if np.isnan(th).all():
-        return lo_b.astype(float), hi_b.astype(float)
+    if np.isnan(draws).all():
+        return lo_b.astype(float), hi_b.astype(float), blind
     a = (1 - LEVEL) / 2
-    lo, hi = np.nanquantile(th, a, axis=0), np.nanquantile(th, 1 - a, axis=0)
-    lo = np.minimum(lo, params)
-    hi = np.maximum(hi, params)
-    return np.where(blind, lo_b, lo), np.where(blind, hi_b, hi)
+    return np.nanquantile(draws, a, axis=0), np.nanquantile(draws, 1 - a, axis=0), blind
 
 
 def _step(params: np.ndarray, h: np.ndarray, g: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:

@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import pymunk
+from pymunk._chipmunk import ffi, lib
 
 
 @dataclass(frozen=True)
@@ -250,17 +251,26 @@ _STATIC = 1  # collision type of static segments
 
 def _region_restitution(e: float, x0: float, x1: float) -> Callable:
     """pre_solve callback: restitution of a contact with a static segment, blended from the
-    segment's elasticity to ``e`` inside [x0, x1] (smooth edges keep a fit of x0, x1 smooth)."""
+    segment's elasticity to ``e`` inside [x0, x1] (smooth edges keep a fit of x0, x1 smooth).
+
+    It runs at every substep of every resting contact, so it reads the arbiter through
+    chipmunk's C getters (the same values as ``arb.shapes``, ``arb.contact_point_set`` and
+    ``arb.restitution``, without building their Python objects).
+    """
+    seg_p, other_p = ffi.new("cpShape *[1]"), ffi.new("cpShape *[1]")
+    n_points, shapes, point_set = lib.cpArbiterGetCount, lib.cpArbiterGetShapes, lib.cpArbiterGetContactPointSet
+    elasticity, set_restitution = lib.cpShapeGetElasticity, lib.cpArbiterSetRestitution
 
     def pre(arb: pymunk.Arbiter, space: pymunk.Space, data: object) -> None:
-        seg, other = arb.shapes
-        pts = arb.contact_point_set.points
-        if not pts:
+        a = arb._arbiter  # noqa: SLF001
+        if not n_points(a):
             return
-        x = pts[0].point_a.x
+        shapes(a, seg_p, other_p)  # in the handler's order: the static segment first
+        x = point_set(a).points[0].pointA.x
         w = 1.0 / (1.0 + math.exp(-max(-50.0, min(50.0, (x - x0) / 0.01))))
         w /= 1.0 + math.exp(-max(-50.0, min(50.0, (x1 - x) / 0.01)))
-        arb.restitution = other.elasticity * (seg.elasticity + w * (e - seg.elasticity))
+        seg_e = elasticity(seg_p[0])
+        set_restitution(a, elasticity(other_p[0]) * (seg_e + w * (e - seg_e)))
 
     return pre
 

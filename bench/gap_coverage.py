@@ -1,0 +1,98 @@
+"""Calibrate the gap finder's 95 % parameter intervals on development seeds, cheaply.
+
+Why: the bench's interval coverage needs the whole finder per case (locate, null, search over
+the whole library), far too slow to calibrate with. Here each case is a bench case (same scenes,
+priors and noise), but only the *true* effect is fitted, exactly as the search fits a candidate
+(fit on the fitting windows' subsample, then the refine step), and the interval is computed as
+the finder does (``voe.gap.uncertainty``). It prints the coverage of the window bootstrap, the
+episode bootstrap, and the smallest inflation factor of the episode bootstrap that covers the
+target share, i.e. the figure ``voe.gap.uncertainty.INFLATE`` records. Dev seeds only (0..99).
+
+    python bench/gap_coverage.py --seeds 0-3 --truths friction,restitution --jobs 2
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+from voe.gap.bench import TRUTHS, make_case
+from voe.gap.search import window_gain
+from voe.gap.stages import GapConfig, _folded, context_for, fit_windows, prepare
+from voe.gap.uncertainty import TOL, quantiles, widen, window_terms
+from voe.parallel import parallel_map
+
+
+def one(args: tuple[int, str]) -> dict:
+    """Fit the true effect of one case and return what the intervals need."""
+    seed, truth = args
+    case = make_case(np.random.default_rng(seed), truth)
+    config = GapConfig()
+    p = prepare(case.scene, case.episodes, (truth,), config)
+    key = truth if truth in p.candidates else f"{truth}[{case.bodies[0]}]"
+    data = _folded(p, p.shooter, p.episodes, config, seed)
+    before = data.heldout_sse(None, None)
+    res = data.fit_candidate(None, p.candidates[key])
+    ref = data.refine(res)
+    if window_gain(before, ref.window_sse) >= window_gain(before, res.window_sse):
+        res = ref
+    ctx = context_for(p.scene, [p.episodes[i] for i in p.split.fit])
+    terms = window_terms(p.shooter, p.sigma, fit_windows(p, p.split.fit, config), res.effect, res.params, ctx,
+                         config.fit.f_scale)
+    lo_b, hi_b = res.effect.bounds(ctx)
+    q = {by: quantiles(terms, res.effect, res.params, ctx, seed, by) for by in (False, True)}
+    return {"seed": seed, "truth": truth, "params": res.params, "true": case.params, "q": q,
+            "scale": res.effect.scale(ctx), "lo_b": lo_b, "hi_b": hi_b}
+
+
+def covered(r: dict, by_episode: bool, k: float, tol: float) -> bool:
+    """Whether the interval (window or episode bootstrap, widened by ``k``, floor ``tol``
+    scales) contains every true parameter."""
+    q_lo, q_hi, blind = r["q"][by_episode]
+    lo, hi = widen(r["params"], q_lo, q_hi, tol / TOL * r["scale"], k)
+    lo, hi = np.where(blind, r["lo_b"], lo), np.where(blind, r["hi_b"], hi)
+    t = r["true"]
+    return bool(np.all(np.isnan(t) | ((lo <= t) & (t <= hi))))
+
+
+FACTORS = (1.0, 1.5, 2.0, 2.5, 3.0, 4.0)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--seeds", default="0-3", help="dev seeds a-b (0..99 only)")
+    ap.add_argument("--truths", default=",".join(t for t in TRUTHS if t != "none"))
+    ap.add_argument("--target", type=float, default=0.95, help="share of cases the calibrated interval covers")
+    ap.add_argument("--jobs", type=int, default=1)
+    ap.add_argument("--episodes", action="store_true", help="list per case for the episode bootstrap")
+    a = ap.parse_args()
+    lo_s, hi_s = (int(x) for x in a.seeds.split("-"))
+    if not (0 <= lo_s <= hi_s <= 99):
+        ap.error("development seeds are 0..99")
+    todo = [(s, t) for s in range(lo_s, hi_s + 1) for t in a.truths.split(",")]
+    t0 = time.time()
+    rows = list(parallel_map(one, todo, a.jobs))
+    n = len(rows)
+    print(f"gap coverage: {n} cases ({a.truths}; seeds {a.seeds}), {time.time() - t0:.0f} s")
+    for r in rows:
+        ks = [k for k in FACTORS if covered(r, a.episodes, k, TOL)]
+        print(f"  {r['truth']:22s} seed {r['seed']:2d} fit {np.round(r['params'], 4)} true {np.round(r['true'], 4)} "
+              f"covered from k = {min(ks, default='-')}")
+    for by in (False, True):
+        for k in FACTORS:
+            c = sum(covered(r, by, k, TOL) for r in rows)
+            print(f"{'episode' if by else 'window'} bootstrap, k = {k}: {c}/{n} = {100 * c / n:.0f} %")
+            if c >= a.target * n:
+                break
+    for tol in (0.03, 0.1):
+        for k in FACTORS:
+            c = sum(covered(r, a.episodes, k, tol) for r in rows)
+            print(f"{'episode' if a.episodes else 'window'} bootstrap, floor {tol} scales, k = {k}: {c}/{n} = "
+                  f"{100 * c / n:.0f} %")
+            if c >= a.target * n:
+                break
+
+if __name__ == "__main__":
+    main()

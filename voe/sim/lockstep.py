@@ -1,0 +1,222 @@
+"""Step several ``SimWorld``s side by side, with one force evaluation per kick for all of them.
+
+Why: a gap-finder fit simulates thousands of short windows, each in its own small pymunk space,
+and almost all of the time went into Python around pymunk, not into pymunk: the ``Space.step``
+wrapper, ``Vec2d`` properties, and a numpy force law called on (B,) arrays every 4 ms of
+simulated time (a few microseconds of work wrapped in tens of microseconds of overhead). Here
+the windows that share an effect and its parameters advance together: every space is stepped by
+chipmunk's own ``cpSpaceStep`` and read through its C getters, and at each kick the states of all
+spaces are stacked into one ``SimState`` of W*B rows, so the force law runs once per kick instead
+of once per window.
+
+Each space still steps alone with exactly the substeps, kicks and arithmetic of
+``SimWorld.run`` with a kick function (``voe.gap.rollout``), so a window's prediction is the same
+to the last bit as when it is simulated by itself (``tests/gap/test_lockstep.py``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+import numpy as np
+import pymunk.batch
+from pymunk._chipmunk import ffi, lib
+
+from voe.sim.scenefile import SimState, SimWorld
+
+StackedForce = Callable[[SimState], tuple[np.ndarray, np.ndarray]]
+
+_F = pymunk.batch.BodyFields
+_POSE = (_F.POSITION | _F.ANGLE).value  # per body: x, y, angle
+_STATE = (_F.POSITION | _F.ANGLE | _F.VELOCITY | _F.ANGULAR_VELOCITY).value  # x, y, angle, vx, vy, omega
+_GET = ffi.addressof(lib, "pmSpaceBodyGetIteratorFuncBatched")
+_BUFFERS: list[pymunk.batch.Buffer] = []  # reused: pymunk never frees a Buffer's C arrays
+_TOUCH = [False]
+
+
+@ffi.callback("void(cpBody *, cpArbiter *, void *)")
+def _on_arbiter(body: object, arb: object, data: object) -> None:
+    _TOUCH[0] = True
+
+
+def schedule(times: np.ndarray, substep: float) -> tuple[list[float], list[int]]:
+    """The substeps ``SimWorld.run`` takes through ``times`` (T,).
+
+    Returns:
+        h: length of every substep, in order; ends: after how many substeps each sample k >= 1
+        is recorded (T - 1 counts).
+    """
+    h: list[float] = []
+    ends: list[int] = []
+    dts = np.diff(times).tolist()
+    for dt in dts:
+        n = max(1, round(dt / substep))
+        h.extend([dt / n] * n)
+        ends.append(len(h))
+    return h, ends
+
+
+def _check_steppable(world: SimWorld) -> None:
+    """What ``pymunk.Space.step`` would check first (it is bypassed here): finite positive masses,
+    and no changes queued for after a step."""
+    for b in world.bodies:
+        if not (0 < b.mass < math.inf and b.moment > 0):
+            raise ValueError(f"lockstep: body with mass {b.mass} and moment {b.moment} cannot be simulated")
+    space = world.space
+    if space._add_later or space._remove_later or space._post_step_callbacks:  # noqa: SLF001
+        raise RuntimeError("lockstep: a space with pending changes or post-step callbacks cannot be stepped in C")
+
+
+def run_lockstep(worlds: list[SimWorld], times: list[np.ndarray], substep: float, force: StackedForce | None = None,
+                 kick_every: float = 4e-3) -> list[np.ndarray]:
+    """Step every world through its own ``times`` (T_i,); return poses (T_i, B, 3) per world.
+
+    Args:
+        worlds: spaces built from the same scene (same bodies in the same order).
+        times: sample times per world, each starting at the world's current state.
+        force: maps the stacked state (W*B rows, world by world) to force (W*B, 2) in N and torque
+            (W*B,) in N m; it must act row by row (as an effect prepared for the scene tiled W
+            times does). None for the nominal scene.
+        kick_every: seconds between velocity kicks (impulse = force times the kick interval).
+    """
+    for w in worlds:
+        _check_steppable(w)
+    nw = len(worlds)
+    if not nw:
+        return []
+    plans = [schedule(np.asarray(t, dtype=float), substep) for t in times]
+    hs = [h for h, _ in plans]
+    lengths = [len(h) for h in hs]
+    rows = _rows(worlds)
+    bufs = _buffers(nw + 1)  # one per world's poses, one for the kicks' states
+    poses = [_Reader(w.space, b, _POSE) for w, b in zip(worlds, bufs, strict=False)]
+    for r in poses:
+        r.reset()
+        r.read()  # the start pose
+    record: dict[int, list[int]] = {}  # substep index -> worlds that record a sample after it
+    for i, (_, ends) in enumerate(plans):
+        for e in ends:
+            record.setdefault(e - 1, []).append(i)
+    order = sorted(range(nw), key=lambda i: -lengths[i])  # worlds still stepping are a prefix of this
+    active = [(worlds[i].space._space, hs[i]) for i in order]  # noqa: SLF001
+    ends_at = [lengths[i] for i in order]
+    k_kick = max(1, round(kick_every / substep))
+    kick = _Kick(worlds, force, bufs[nw], rows) if force is not None else None
+    step = lib.cpSpaceStep
+    for j in range(max(lengths)):
+        while ends_at[-1] <= j:  # the shortest window is done
+            ends_at.pop()
+            active.pop()
+        if kick is not None and j % k_kick == 0:
+            kick([k_kick * h[min(j, n - 1)] for h, n in zip(hs, lengths, strict=True)])
+        for space, h in active:
+            step(space, h[j])
+        done = record.get(j)
+        if done:
+            for i in done:
+                poses[i].read()
+    nb = len(worlds[0].bodies)
+    return [r.array(rows, 3)[:, :nb].copy() for r in poses]
+
+
+def _buffers(n: int) -> list[pymunk.batch.Buffer]:
+    while len(_BUFFERS) < n:
+        _BUFFERS.append(pymunk.batch.Buffer())
+    return _BUFFERS[:n]
+
+
+class _Reader:
+    """Appends fields of every body of one space to a C array, one C call per read."""
+
+    def __init__(self, space: pymunk.Space, buf: pymunk.batch.Buffer, fields: int) -> None:
+        self.space, self.arr = space._space, buf._float_arr  # noqa: SLF001
+        self.data = ffi.new("pmBatchedData *")
+        self.data.fields = fields
+        self.data.floatArray, self.data.intArray = buf._float_arr, buf._int_arr  # noqa: SLF001
+
+    def reset(self) -> None:
+        self.arr.num = 0
+
+    def read(self) -> None:
+        lib.cpSpaceEachBody(self.space, _GET, self.data)
+
+    def array(self, rows: int, width: int) -> np.ndarray:
+        """What was read since ``reset``: (reads, rows, width), a view of the C array."""
+        return np.frombuffer(ffi.buffer(self.arr.arr, 8 * self.arr.num)).reshape(-1, rows, width)
+
+
+def _rows(worlds: list[SimWorld]) -> int:
+    """Bodies ``cpSpaceEachBody`` visits per space (the dynamic bodies, in ``world.bodies`` order,
+    then static ones), checked once per world against the bodies' ids and once against their
+    getters, so a pymunk whose batch layout differs fails loudly instead of mixing up bodies."""
+    buf = _buffers(1)[0]
+    counts = set()
+    for w in worlds:
+        r = _Reader(w.space, buf, (_F.BODY_ID | _F.POSITION | _F.ANGLE | _F.VELOCITY | _F.ANGULAR_VELOCITY).value)
+        r.reset()
+        buf._int_arr.num = 0  # noqa: SLF001
+        r.read()
+        ids = list(memoryview(buf.int_buf()).cast("P"))
+        if ids[:len(w.bodies)] != [b.id for b in w.bodies]:
+            raise RuntimeError("lockstep: pymunk visits a space's bodies in an unexpected order")
+        counts.add(len(ids))
+    b = worlds[-1].bodies[0]  # the last world read is what the buffer holds
+    if r.array(len(ids), 6)[0, 0].tolist() != [*b.position, b.angle, *b.velocity, b.angular_velocity]:
+        raise RuntimeError("lockstep: pymunk's batch layout is not x, y, angle, vx, vy, omega")
+    if len(counts) != 1:
+        raise RuntimeError("lockstep: the worlds do not hold the same bodies")
+    return counts.pop()
+
+
+class _Kick:
+    """One velocity kick of every world from one call of the stacked force law.
+
+    The arithmetic per body is ``voe.gap.rollout``'s: v += f * (dt / m), w += tau * dt / I, and a
+    body's velocity is written only where its force (or torque) is non-zero.
+    """
+
+    def __init__(self, worlds: list[SimWorld], force: StackedForce, buf: pymunk.batch.Buffer, rows: int) -> None:
+        self.force, self.rows = force, rows
+        self.readers = [_Reader(w.space, buf, _STATE) for w in worlds]
+        self.ptrs = [b._body for w in worlds for b in w.bodies]  # noqa: SLF001
+        self.per_world = len(worlds[0].bodies)
+        self.mass = np.concatenate([w._mass for w in worlds])  # noqa: SLF001  # (W*B,)
+        self.moment = np.concatenate([w._moment for w in worlds])  # noqa: SLF001
+        self.gravity = worlds[0]._gravity  # noqa: SLF001
+        self._touching: np.ndarray | None = None
+
+    def _contact(self) -> np.ndarray:
+        """(W*B,) bool: the body has an arbiter (touches something); computed once per kick."""
+        if self._touching is None:
+            out = np.zeros(len(self.ptrs), dtype=bool)
+            each = lib.cpBodyEachArbiter
+            for i, ptr in enumerate(self.ptrs):
+                _TOUCH[0] = False
+                each(ptr, _on_arbiter, ffi.NULL)
+                out[i] = _TOUCH[0]
+            self._touching = out
+        return self._touching.copy()
+
+    def __call__(self, dt_world: list[float]) -> None:
+        self.readers[0].reset()
+        for r in self.readers:
+            r.read()
+        raw = self.readers[0].array(self.rows, 6)[:, :self.per_world].reshape(-1, 6).copy()  # (N, 6)
+        vel = raw[:, 3:5]  # (N, 2)
+        self._touching = None
+        st = SimState(raw[:, 0:2], vel, raw[:, 2], raw[:, 5], self.mass, self.moment, self.gravity, self._contact)
+        f, tau = self.force(st)  # (N, 2), (N,)
+        dt = np.repeat(np.asarray(dt_world, dtype=float), self.per_world)  # (N,)
+        if f.any():
+            set_v = lib.cpBodySetVelocity
+            v_new = (vel + f * (dt / self.mass)[:, None]).tolist()  # (N, 2)
+            for ptr, v, fb in zip(self.ptrs, v_new, f.tolist(), strict=True):
+                if fb[0] or fb[1]:
+                    set_v(ptr, v)
+        if tau.any():
+            set_w = lib.cpBodySetAngularVelocity
+            w_new = (st.omega + tau * dt / self.moment).tolist()  # (N,)
+            for ptr, w, tb in zip(self.ptrs, w_new, tau.tolist(), strict=True):
+                if tb:
+                    set_w(ptr, w)
