@@ -52,7 +52,7 @@ def _persistent(model):
     and give the Gaussian the mixture (outlier weight ~5e-5 instead of ~1)."""
     with torch.no_grad():
         model.net.head.theta.fill_(1.0 / model.net.head.GAIN)
-        model.net.head.outlier_theta.fill_(1.5)
+        model.net.head.outlier_theta.fill_(1.5 / model.net.head.OUTLIER_GAIN)
     return model
 
 

@@ -28,7 +28,7 @@ from torch import nn
 
 from voe.io.batch import Batch
 from voe.models import slot_rollout as sr
-from voe.models.state_head import DELTA_SCALE, TYPICAL, StateHead, bounded_logvar, cell_nll
+from voe.models.state_head import DELTA_SCALE, TYPICAL, W0, StateHead, bounded_logvar, cell_nll
 from voe.models.torchbase import TorchModel
 
 OUT = 18  # presence, 6 mean corrections, 9 log-variances, shape, exist correction
@@ -36,6 +36,8 @@ OUT = 18  # presence, 6 mean corrections, 9 log-variances, shape, exist correcti
 
 @dataclass(frozen=True)
 class InteractionConfig:
+    """Width of every MLP and the seed of the initial weights."""
+
     hidden: int = 96
     seed: int = 0
 
@@ -50,13 +52,17 @@ class RolloutHead(StateHead):
     ``mean_f = c_f + g_f * (guess_f - c_f) + correction`` where ``guess`` is the slot state moved
     one Euler step by its own velocity (for x, y, angle) and the state itself otherwise, and
     ``g = GAIN * theta`` starts at zero: an untrained or random network predicts the typical state
-    whatever it saw. The predicted variance is the network's one-step variance plus ``g^2`` times
-    the carried variance, so along a hidden rollout the variance accumulates with the gates the
-    model learned (a Kalman-style prediction step).
+    whatever it saw. The predicted variance is the network's one-step variance plus the carried
+    variance pushed through the gated step (``step_logvar``), so along a hidden rollout the variance
+    accumulates with the gates the model learned (a Kalman-style prediction step).
+
+    The gains only speed up learning (a whole-clip step is costly, so there are few of them); they
+    change nothing at initialisation, where every gated parameter is zero.
     """
 
-    GAIN = 10.0  # a gate opens in ~50 Adam steps: a whole-clip step is costly, there are few
+    GAIN = 10.0  # a gate opens in ~50 Adam steps
     LV_GAIN = 20.0  # likewise for the one-step log-variance's per-feature offset
+    OUTLIER_GAIN = 5.0  # the outlier weight falls from ~1 in ~70 Adam steps instead of ~350
 
     def __init__(self) -> None:
         super().__init__()
@@ -66,6 +72,16 @@ class RolloutHead(StateHead):
         self.presence_screen = nn.Linear(2, 1, bias=False)  # covered / outside at the predicted state
         nn.init.zeros_(self.presence_screen.weight)
 
+    def log_outlier(self) -> tuple[torch.Tensor, torch.Tensor]:
+        z = W0 - 20.0 * self.OUTLIER_GAIN * self.outlier_theta
+        return nn.functional.logsigmoid(z), nn.functional.logsigmoid(-z)
+
+    def randomize(self, gen: torch.Generator) -> None:
+        """As ``StateHead.randomize`` (the Gaussian gets about half the mixture)."""
+        super().randomize(gen)
+        with torch.no_grad():
+            self.outlier_theta.div_(self.OUTLIER_GAIN)
+
     def gates(self) -> torch.Tensor:
         return self.GAIN * self.theta  # (10,)
 
@@ -74,6 +90,16 @@ class RolloutHead(StateHead):
         moved = cont[..., 0:3] + dt[:, None, None] * cont[..., 3:6]
         guess = torch.cat([moved, cont[..., 3:], exist[..., None]], -1)
         return self.c + self.gates() * (guess - self.c)
+
+    def step_logvar(self, lv_step: torch.Tensor, lv: torch.Tensor, dt: torch.Tensor) -> torch.Tensor:
+        """Log-variance ``(B, K, 9)`` of the prediction: the network's one-step variance plus the
+        carried variance pushed through the gated Euler step (``x' = c + g (x + dt v - c)``, so
+        ``var x' = g^2 (var x + dt^2 var v)``: a hidden object's position grows uncertain with
+        its speed's uncertainty)."""
+        lg2 = torch.log(self.gates()[:9] ** 2 + 1e-30)  # (9,)
+        ldt2 = 2 * torch.log(dt)[:, None, None]  # (B, 1, 1)
+        moved = torch.cat([torch.logaddexp(lv[..., 0:3], ldt2 + lv[..., 3:6]), lv[..., 3:]], -1)
+        return torch.logaddexp(lv_step, lg2 + moved).clamp(-14.0, 8.0)
 
 
 class InteractionModule(nn.Module):
@@ -136,8 +162,7 @@ def rollout_nll(net: InteractionModule, d: dict[str, torch.Tensor]) -> torch.Ten
         mean = head.step_mean(cont, exist, dt)  # (B, K, 10)
         mean = torch.cat([mean[..., :6] + scale * out[..., 1:7], mean[..., 6:9],
                           mean[..., 9:] + out[..., 17:18]], -1)
-        g2 = head.gates()[:9] ** 2
-        lv_next = torch.logaddexp(bounded_logvar(out[..., 7:16] + head.LV_GAIN * head.lv_bias), torch.log(g2 + 1e-30) + lv).clamp(-14.0, 8.0)
+        lv_next = head.step_logvar(bounded_logvar(out[..., 7:16] + head.LV_GAIN * head.lv_bias), lv, dt)
         cont_next = sr.clamp_state(mean[..., :9])
         hid, outside = sr.covered(cont_next.detach(), circ.detach(), geo["occluders"], geo["extent"])
         p_logit = (out[..., 0] + head.presence_bias()

@@ -73,7 +73,10 @@ def prepare(batch: Batch) -> dict[str, torch.Tensor]:
     circle = np.nan_to_num(batch.states[..., batch.feature_names.index("is_circle")]) > 0.5
     geo = [_geometry_arrays(batch.geometry[b] if batch.geometry else {}, f"clip {b} of the batch")
            for b in range(B)]
-    rep = lambda a: torch.from_numpy(np.repeat(np.stack(a)[:, None], T, 1).astype(np.float32))  # noqa: E731
+
+    def rep(a: list[np.ndarray]) -> torch.Tensor:  # per clip (...) -> (B, T, ...)
+        return torch.from_numpy(np.repeat(np.stack(a)[:, None], T, 1).astype(np.float32))
+
     return {"obs": torch.from_numpy(obs.astype(np.float32)), "present": torch.from_numpy(batch.present.copy()),
             "circle": torch.from_numpy(circle.astype(np.float32)),
             "statics": rep([g[0] for g in geo]), "occluders": rep([g[1] for g in geo]),
