@@ -117,8 +117,9 @@ class NoGravity(Lesion):
     name = "no-gravity"
     summary = "re-simulates with gravity switched off"
     declares = {
-        "gravity": ("fail", "expects a ball thrown up to keep rising out of the top of the screen; "
-                            "it comes down in all four clips, so no return time is expected"),
+        "gravity": ("chance", "expects a ball thrown up to keep rising out of the top of the screen; "
+                              "it comes down in all four clips, so no return time is expected and a "
+                              "spliced one is no stranger than a possible one"),
         **keeps((*_OBJECTS, "solidity", "inertia", "collision", "energy"),
                 "their violations are seen against the same trajectory with or without gravity"),
     }
@@ -214,7 +215,10 @@ class EnergyGain(Lesion):
     name = "energy-gain"
     summary = "lets bounces gain energy as readily as lose it (elasticity hypotheses up to 1.8)"
     declares = {
-        "energy": ("chance", "a too-high bounce is as ordinary as a low one: chance, not reversed"),
+        "energy": ("fail", "a too-high bounce is as ordinary a priori as a low one, so it cannot tell; "
+                           "with every restitution up to 1.8 equally likely, a rebound speed's "
+                           "likelihood is p(e) / v_in, and the reversed bounce comes in slower: "
+                           "at chance or reversed, never learned"),
         **keeps((*_OBJECTS, "solidity", "inertia", "gravity", "collision"),
                 "none of their violations is a bounce that gains energy"),
     }

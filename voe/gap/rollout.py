@@ -37,10 +37,24 @@ def run(world: SimWorld, times: np.ndarray, substep: float, force: PreparedForce
 
 
 def tiled(scene: SceneSpec, n: int) -> SceneSpec:
-    """``scene`` with its bodies repeated ``n`` times (no joints): what a force law prepared for
-    ``n`` stacked windows sees. Body names repeat, so an effect limited to a body acts on that
-    body in every copy."""
-    return scene if n == 1 else replace(scene, bodies=scene.bodies * n, joints=())
+    """``scene`` with its bodies repeated ``n`` times: what a force law prepared for ``n`` stacked
+    windows sees. Without joints the names repeat, so an effect limited to a body acts on that
+    body in every copy; with joints each copy's bodies and joints are renamed (``arm#2``), so a
+    joint effect finds each copy's joints (``run_many`` then stacks only effects on all bodies)."""
+    if n == 1:
+        return scene
+    if not scene.joints:
+        return replace(scene, bodies=scene.bodies * n, joints=())
+    bodies = tuple(replace(b, name=f"{b.name}#{k}") for k in range(n) for b in scene.bodies)
+    joints = tuple(replace(j, a=f"{j.a}#{k}", b=None if j.b is None else f"{j.b}#{k}")
+                   for k in range(n) for j in scene.joints)
+    return replace(scene, bodies=bodies, joints=joints)
+
+
+def stackable(scene: SceneSpec, effect: Effect | None) -> bool:
+    """Whether ``effect``'s force law can be prepared for stacked copies of ``scene``: always
+    without joints; with joints (renamed copies) only if no force part is limited to named bodies."""
+    return effect is None or not scene.joints or all(e.bodies is None for e in effect.parts if e.has_forces)
 
 
 def run_many(scene: SceneSpec, starts: list[tuple[np.ndarray, np.ndarray]], times: list[np.ndarray], substep: float,
@@ -54,14 +68,14 @@ def run_many(scene: SceneSpec, starts: list[tuple[np.ndarray, np.ndarray]], time
     Returns:
         Poses (T_i, B, 3) per window, each exactly as ``run`` would give it alone.
 
-    Why scenes with joints go one window at a time: a joint effect's force law indexes the
-    scene's joints, so it cannot be prepared for stacked copies.
+    A force part limited to named bodies on a scene with joints cannot be stacked
+    (``stackable``); its windows go one at a time.
     """
     mats: Materials | None = effect.materials(params, scene) if effect is not None else None
     worlds = [SimWorld(scene, pose0, vel0, mats) for pose0, vel0 in starts]
     if not worlds:
         return []
-    groups = [list(range(len(worlds)))] if not scene.joints else [[i] for i in range(len(worlds))]
+    groups = [list(range(len(worlds)))] if stackable(scene, effect) else [[i] for i in range(len(worlds))]
     out: list[np.ndarray] = [np.empty(0)] * len(worlds)
     for g in groups:
         force = effect.prepare(params, tiled(scene, len(g))) if effect is not None else None

@@ -86,6 +86,7 @@ class Search:
     result: SearchResult
     null: tuple[NullRound, ...]
     fitter: FoldedFitter
+    null_rollouts: int = 0  # windows the null's search simulated (the data's: ``Problem.shooter.n_rollouts``)
 
 
 def prepare(scene: str | Path | SceneSpec, recordings: str | Path | pd.DataFrame | list[Episode],
@@ -129,7 +130,7 @@ def search_step(p: Problem, loc: Location, config: GapConfig, max_effects: int, 
     noise = float(np.median(p.sigma[:, :2]))
     res = greedy(data, p.candidates, null, max_effects, contexts, noise, lambda k: note(f"fit: {k}"),
                  config.gain_lower_q, n_jobs)
-    return Search(res, null.result(), data)
+    return Search(res, null.result(), data, null_shooter.n_rollouts)
 
 
 def context_for(scene: SceneSpec, episodes: list[Episode]) -> FitContext:
