@@ -43,5 +43,5 @@ def test_occluded_splice_is_hidden_and_perceptual_sets_do_not_carry_the_verdict(
                 assert not cl.rec.present[onset - 2:onset + 2, slot].any()
         else:
             assert not m.carries_verdict and not m.clips[0].rec.geometry["occluders"]
-            ab = m.clips[2].rec.states[:, slot, VY]
-            assert ab[onset - 1] < 0 < ab[onset]  # turns round in mid-air, in view
+            a, ab = (m.clips[i].rec.states[onset, slot, VY] for i in (0, 2))
+            assert a < 0 < ab  # falling in A, rising in AB from the onset: it turns round in view

@@ -88,6 +88,8 @@ def _accuracy(model, root: Path, calib, concept: str, condition: str | None) -> 
     sets = sets[sets["concept"] == concept]
     if condition is not None:
         sets = sets[sets["visible_violation"] == (condition == "visible")]
+    else:  # a concept-level claim is about the sets that carry its verdict, as in the matrix
+        sets = sets[sets["carries_verdict"].astype(bool)]
     return float(sets["accuracy"].mean())
 
 

@@ -77,7 +77,8 @@ class Gravity(Concept):
         a = simulate(self.build(p, ctx, (float(st[1]), float(st[4]))), ctx.cfg)
         if ctx.visible:  # where A's falling ball and B's rising one are closest
             ya, yb = a.states[:, slot, 1], b.states[:, slot, 1]  # (T,)
-            both = np.flatnonzero((a.states[:, slot, 4] < -0.5) & (b.states[:, slot, 4] > 0.5))
+            both = np.flatnonzero((a.states[:, slot, 4] < 0) & (b.states[:, slot, 4] > 0))
+            both = both[: int(np.argmax(np.diff(np.append(both, -9)) != 1)) + 1]  # at the top, not at rest
             s = int(both[np.argmin(np.abs(ya - yb)[both])]) if both.size else 0
             if not 3 <= s <= ctx.cfg.n_frames - 3:
                 raise ValueError("gravity: the two paths never cross in flight; adjust the ranges in spec.yaml")
