@@ -162,11 +162,34 @@ class Concept(ABC):
             raise ConceptError(f"{self.id}: {self.n_main}+{n_distractors} objects exceed {cfg.n_slots} slots")
         distractors = self._distractors(rng, n_distractors, slots[self.n_main:])
         ctx = Context(cfg, visible, n_distractors, slots, distractors, self._lane(n_distractors))
-        params = self._sample(rng, ctx)
         cond = self.condition(visible)
+        for attempt in range(self.MAX_DRAWS):  # noqa: B007 (read after the loop)
+            params = self._sample(rng, ctx)
+            try:
+                clips = self._clips(params, ctx, set_index)
+                break
+            except (ValueError, ConceptError) as exc:
+                last = exc  # a draw the design cannot be built from: draw again from the same stream
+        else:
+            raise ConceptError(f"{self.id} set {set_index} (seed {seed}): no buildable draw in "
+                               f"{self.MAX_DRAWS} tries; last: {last}")
+        if attempt:  # recorded only when it happened, so sets built at the first draw keep their bytes
+            params = {**params, "redraws": attempt}
         mset = MatchedSet(self.id, set_index, set_seed, self.kind, visible, n_distractors, params,
                           condition=cond, carries_verdict=cond != "perceptual",
                           balance_claim=self.balance.get(cond, ""), confounded=self.confounded)
+        mset.clips = clips
+        mset.params = {**params, "splice_onset": mset.clips[0].onset}
+        return mset
+
+    #: How many parameter draws ``make_set`` tries before giving up. Why: the parameter ranges are
+    #: wide on purpose, and a few draws (a screen too narrow for the frames a splice needs, a
+    #: morph with no frame behind the screen) cannot be built; rejecting and redrawing from the
+    #: set's own seeded stream keeps the set deterministic instead of failing the whole probe set.
+    MAX_DRAWS: ClassVar[int] = 50
+
+    def _clips(self, params: dict[str, Any], ctx: Context, set_index: int) -> list[Clip]:
+        """The matched set's clips for one parameter draw (raises ValueError if it cannot be built)."""
         if self.kind == "quadruplet":
             a, b, mask = self._possible_pair(params, ctx)
             mask = np.asarray(mask, dtype=bool)
@@ -174,14 +197,10 @@ class Concept(ABC):
                 raise ConceptError(f"{self.id} set {set_index}: splice mask is empty or full")
             onset = int(np.argmax(mask))
             ab, ba = splice(a, b, mask)
-            mset.clips = [Clip("A", "possible", a, onset), Clip("B", "possible", b, onset),
-                          Clip("AB", "impossible", ab, onset), Clip("BA", "impossible", ba, onset)]
-        else:
-            pos, imp, onset = self._pair(params, ctx)
-            mset.clips = [Clip("possible", "possible", pos, onset),
-                          Clip("impossible", "impossible", imp, onset)]
-        mset.params = {**params, "splice_onset": mset.clips[0].onset}
-        return mset
+            return [Clip("A", "possible", a, onset), Clip("B", "possible", b, onset),
+                    Clip("AB", "impossible", ab, onset), Clip("BA", "impossible", ba, onset)]
+        pos, imp, onset = self._pair(params, ctx)
+        return [Clip("possible", "possible", pos, onset), Clip("impossible", "impossible", imp, onset)]
 
     # -- hooks -----------------------------------------------------------------------------------
     @abstractmethod
