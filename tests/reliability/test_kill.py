@@ -110,7 +110,10 @@ def test_validate_suite_scratch_in_the_user_cache(tmp_path):
     out, cache = tmp_path / "v", tmp_path / "cache"
     args = ["validate-suite", "--out", out, "--per-concept", "2", "--world-n", "10", "--family", "knowledge-free"]
     run = interrupt(args, tmp_path, signal.SIGTERM, "probe sets", delay=0.3, XDG_CACHE_HOME=str(cache))
-    scratch = cache / "voe" / "validity-2x10-seed0"
+    from voe.io.outputs import code_fingerprint
+
+    name = f"validity-2x10-seed0-{code_fingerprint()}"
+    scratch = cache / "voe" / name
     assert f"scratch directory (reused on rerun): {scratch}" in run.stdout
     assert_nothing_left(out)
     probes = scratch / "probes"
@@ -125,7 +128,7 @@ def test_validate_suite_scratch_in_the_user_cache(tmp_path):
     assert (out / "matrix.csv").exists() and (scratch / "probes" / "manifest.json").exists()
     assert not (tmp_path / "voe-work").exists()
     prov = json.loads((out / "provenance.json").read_text())      # portable: no absolute path
-    assert prov["probes"] == "../cache/voe/validity-2x10-seed0/probes" and len(prov["probes_manifest_sha256"]) == 64
+    assert prov["probes"] == f"../cache/voe/{name}/probes" and len(prov["probes_manifest_sha256"]) == 64
     assert str(tmp_path) not in (out / "validity.md").read_text() + (out / "provenance.json").read_text()
 
 

@@ -16,7 +16,7 @@ from voe.cli.main import app
 from voe.errors import VoeError
 from voe.io.atomic import atomic_dir, atomic_write_bytes, umask
 from voe.io.lock import OutputLockedError, lock_path, output_lock
-from voe.io.outputs import claim_output, scratch_dir
+from voe.io.outputs import claim_output, code_fingerprint, scratch_dir
 
 from .cli import assert_one_line_error, env, run_voe
 
@@ -172,8 +172,25 @@ def test_the_lock_is_reentrant_in_a_process(tmp_path):
 
 
 def test_scratch_goes_to_the_user_cache(monkeypatch, tmp_path):
+    fp = code_fingerprint()
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "cache"))
-    assert scratch_dir("validity") == tmp_path / "cache" / "voe" / "validity"
+    assert scratch_dir("validity") == tmp_path / "cache" / "voe" / f"validity-{fp}"
     monkeypatch.delenv("XDG_CACHE_HOME")
     monkeypatch.setenv("HOME", str(tmp_path / "home"))
-    assert scratch_dir("demo") == tmp_path / "home" / ".cache" / "voe" / "demo"
+    assert scratch_dir("demo") == tmp_path / "home" / ".cache" / "voe" / f"demo-{fp}"
+
+
+def test_scratch_of_other_code_is_not_reused(tmp_path):
+    # a rerun after an upgrade once reported the previous version's stored runs as new
+    src = tmp_path / "src"
+    (src / "voe" / "models").mkdir(parents=True)
+    (src / "probes" / "gravity").mkdir(parents=True)
+    (src / "voe" / "models" / "m.py").write_text("A = 1\n")
+    (src / "probes" / "gravity" / "spec.yaml").write_text("id: Gravity-v4\n")
+    before = code_fingerprint(src)
+    assert code_fingerprint(src) == before and len(before) == 12
+    (src / "voe" / "models" / "m.py").write_text("A = 2\n")
+    changed = code_fingerprint(src)
+    assert changed != before
+    (src / "probes" / "gravity" / "spec.yaml").write_text("id: Gravity-v5\n")
+    assert code_fingerprint(src) not in (before, changed)

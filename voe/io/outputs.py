@@ -74,10 +74,30 @@ def claim_output(out: str | Path, kind: str = "dir", overwrite: bool = False,
 
 
 def scratch_dir(name: str) -> Path:
-    """A per-user scratch directory for reusable intermediate data: ``$XDG_CACHE_HOME/voe/NAME``.
+    """A per-user scratch directory for reusable intermediate data: ``$XDG_CACHE_HOME/voe/NAME-CODE``.
 
     Why: scratch data once landed in ``voe-work/`` under whatever directory a command was started
-    from. ``~/.cache/voe/NAME`` is used when ``XDG_CACHE_HOME`` is unset.
+    from. ``~/.cache/voe/...`` is used when ``XDG_CACHE_HOME`` is unset. ``CODE`` is
+    :func:`code_fingerprint`: commands reuse what a scratch directory holds (probes, worlds,
+    checkpoints, runs) by its presence, so after an upgrade a rerun once reported runs of the old
+    probe designs and models as new; a directory per code version makes reuse safe.
     """
     base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base) / "voe" / name
+    return Path(base) / "voe" / f"{name}-{code_fingerprint()}"
+
+
+def code_fingerprint(root: Path | None = None) -> str:
+    """12 hex digits of sha256 over the package's Python sources and the concept specs.
+
+    Args:
+        root: the source checkout (default: the one this module was imported from); its
+            ``voe/**/*.py`` and ``probes/*/spec.yaml`` are hashed, path and bytes, in sorted order.
+    """
+    import hashlib
+
+    root = Path(__file__).resolve().parents[2] if root is None else Path(root)
+    files = sorted([*(root / "voe").rglob("*.py"), *(root / "probes").glob("*/spec.yaml")])
+    h = hashlib.sha256()
+    for f in files:
+        h.update(f.relative_to(root).as_posix().encode() + b"\0" + f.read_bytes() + b"\0")
+    return h.hexdigest()[:12]
