@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.concepts.timeshift import assert_pass_through_shows_after_late_return, assert_same_exit_other_time
+from tests.concepts.timeshift import assert_time_shifted_occluded_sets
 from voe.concepts import get_concept
 from voe.sim.scene import FEATURE_NAMES, SimConfig
 
@@ -44,11 +44,7 @@ def test_every_clip_keeps_the_order_and_both_objects_bounce_apart(sets):
 
 
 def test_occluded_splices_come_back_late_or_early_at_the_same_places_and_speeds(sets):
-    occl = [m for m in sets if m.condition == "occluded"]
-    assert occl
-    for m in occl:
-        assert_same_exit_other_time(m, m.params["main_slots"])
-        assert_pass_through_shows_after_late_return(m, m.params["main_slots"])
+    assert_time_shifted_occluded_sets(sets)
 
 
 def test_occluded_splice_hides_both_objects(sets):

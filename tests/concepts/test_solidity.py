@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.concepts.timeshift import assert_pass_through_shows_after_late_return, assert_same_exit_other_time
+from tests.concepts.timeshift import assert_time_shifted_occluded_sets
 from voe.concepts import get_concept
 from voe.sim.scene import FEATURE_NAMES, SimConfig
 
@@ -30,11 +30,7 @@ def test_every_object_stays_on_its_side_of_the_wall_and_bounces(sets):
 
 
 def test_occluded_splices_return_late_or_early_at_the_same_place_and_speed(sets):
-    occl = [m for m in sets if m.condition == "occluded"]
-    assert occl
-    for m in occl:
-        assert_same_exit_other_time(m, m.params["main_slots"])
-        assert_pass_through_shows_after_late_return(m, m.params["main_slots"])
+    assert_time_shifted_occluded_sets(sets)
 
 
 def test_the_wall_stands_off_the_screen_centre_and_its_top_in_view(sets):

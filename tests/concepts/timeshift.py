@@ -40,3 +40,12 @@ def assert_pass_through_shows_after_late_return(m, slots, dt=0.05):
         x, vx, w = (float(ab.states[first - 1, s, i]) for i in (0, 3, 8))
         gap = occ["x1"] - (x + w / 2) if vx > 0 else (x - w / 2) - occ["x0"]
         assert first - 1 + gap / abs(vx) / dt > last + 1
+
+
+def assert_time_shifted_occluded_sets(sets):
+    """Every occluded set is a time-shifted splice whose pass-through shows only after the late return."""
+    occl = [m for m in sets if m.condition == "occluded"]
+    assert occl
+    for m in occl:
+        assert_same_exit_other_time(m, m.params["main_slots"])
+        assert_pass_through_shows_after_late_return(m, m.params["main_slots"])
