@@ -78,3 +78,43 @@ def test_empty_training_set(tmp_path):
     (tmp_path / "empty").mkdir()
     with pytest.raises(ProbeSetError):
         train("mlp", tmp_path / "empty", tmp_path / "ck", TrainConfig(steps=1))
+
+
+def _poisoned_nll(model, every):
+    """``model.nll`` that gives NaN on every ``every``-th call (every=1: always)."""
+    import torch
+
+    clean, calls = model.nll, [0]
+
+    def nll(d):
+        out = clean(d)
+        calls[0] += 1
+        if model.net.training and calls[0] % every == 0:
+            out = out * torch.tensor(float("nan"))
+        return out
+
+    return nll
+
+
+def test_a_non_finite_batch_is_skipped_not_learned(tiny_world, tmp_path):
+    # one NaN batch once turned every weight of a demo's model into NaN and a NaN checkpoint was written
+    from voe.models.train import fit, split_clips
+
+    tr, va = split_clips(tiny_world, 0.25, 0)[:2]
+    model = load_model("interaction", {"seed": 0})
+    model.nll = _poisoned_nll(model, 7)
+    meta = fit(model, tr, va, TrainConfig(steps=30, val_frac=0.25, eval_every=10))
+    assert meta["skipped_steps"] == 4 and np.isfinite(meta["val_nll"])
+    for p in model.net.parameters():
+        assert p.detach().isfinite().all()
+
+
+def test_training_that_never_gives_a_finite_loss_fails(tiny_world):
+    from voe.errors import VoeError
+    from voe.models.train import fit, split_clips
+
+    tr, va = split_clips(tiny_world, 0.25, 0)[:2]
+    model = load_model("interaction", {"seed": 0})
+    model.nll = _poisoned_nll(model, 1)
+    with pytest.raises(VoeError, match="diverged: 11 of 11 steps had a non-finite loss"):
+        fit(model, tr, va, TrainConfig(steps=30, val_frac=0.25, eval_every=10))

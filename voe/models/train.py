@@ -126,7 +126,7 @@ def fit(model: Any, train: Batch | Clips, val: Batch | Clips, cfg: TrainConfig,
     opt = torch.optim.Adam(model.net.parameters(), lr=preset["lr"])
     steps = cfg.steps if cfg.steps is not None else 10**9
     deadline = time.monotonic() + 60 * cfg.minutes if cfg.minutes is not None else float("inf")
-    best, best_state, history, step = float("inf"), None, [], 0
+    best, best_state, history, step, skipped = float("inf"), None, [], 0, 0
     start = time.monotonic()
     while step < steps and time.monotonic() < deadline:
         if len(groups) > 1 and step and step % per_group == 0:  # the next group of shards
@@ -142,8 +142,14 @@ def fit(model: Any, train: Batch | Clips, val: Batch | Clips, cfg: TrainConfig,
         loss = model.nll(win)[:, model.warmup:].mean()
         opt.zero_grad()
         loss.backward()
-        torch.nn.utils.clip_grad_norm_(model.net.parameters(), 10.0)
-        opt.step()
+        norm = torch.nn.utils.clip_grad_norm_(model.net.parameters(), 10.0)
+        if torch.isfinite(loss) and torch.isfinite(norm):
+            opt.step()
+        else:  # one non-finite batch once turned every weight into NaN for the rest of a demo run
+            skipped += 1
+            if skipped > max(10, step // 10):
+                raise VoeError(f"training {getattr(model, 'name', 'model')} diverged: {skipped} of "
+                               f"{step + 1} steps had a non-finite loss or gradient")
         step += 1
         loss = loss.item()
         v = None
@@ -158,10 +164,13 @@ def fit(model: Any, train: Batch | Clips, val: Batch | Clips, cfg: TrainConfig,
         if report:
             report(step, float(loss), v)
     model.net.to("cpu")
-    if best_state is not None:
-        model.net.load_state_dict({k: t.cpu() for k, t in best_state.items()})
+    if best_state is None:
+        raise VoeError(f"training {getattr(model, 'name', 'model')} gave no finite validation NLL in "
+                       f"{step} steps; no checkpoint written")
+    model.net.load_state_dict({k: t.cpu() for k, t in best_state.items()})
     seconds = time.monotonic() - start
     return {"steps": step, "seconds": seconds, "val_nll": best, "history": history,
+            "skipped_steps": skipped,
             "train_frames_per_s": step * preset["batch"] * (L - model.warmup) / max(seconds, 1e-9),
             "train_groups": len(groups)}
 
