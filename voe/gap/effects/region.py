@@ -44,7 +44,11 @@ class _Region(Effect):
         lo, hi = float(ctx.lo[0]), float(ctx.hi[0])
         third = (hi - lo) / 3
         spans = [(lo, lo + third), (lo + third, lo + 2 * third), (lo + 2 * third, hi), (lo + 0.75 * third, hi - 0.75 * third)]
-        return [np.array([s, a, b]) for s in self.STRENGTHS for a, b in spans]
+        return [np.array([s, a, b]) for s in self.strengths(ctx) for a, b in spans]
+
+    def strengths(self, ctx: FitContext) -> tuple[float, ...]:
+        """Starting strengths inside the patch (each times every starting interval)."""
+        return self.STRENGTHS
 
     def bounds(self, ctx: FitContext) -> tuple[np.ndarray, np.ndarray]:
         lo, hi = float(ctx.lo[0]) - 0.5, float(ctx.hi[0]) + 0.5

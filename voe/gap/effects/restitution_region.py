@@ -35,12 +35,11 @@ class RestitutionRegion(_Region):
     def has_forces(self) -> bool:
         return False
 
-    def starts(self, ctx: FitContext) -> list[np.ndarray]:
+    def strengths(self, ctx: FitContext) -> tuple[float, ...]:
         """One strength (half the floor's elasticity: a deader patch, or 0.5 on a dead floor)
         times the four starting intervals. Why one: every start is a fit in every round."""
         fe = floor_elasticity(ctx.scene)
-        self.STRENGTHS = (0.5 * fe if fe > 0.2 else 0.5,)
-        return super().starts(ctx)
+        return (0.5 * fe if fe > 0.2 else 0.5,)
 
     def _materials(self, p: np.ndarray, scene: SceneSpec) -> Materials:
         return Materials(region_elasticity=(float(p[0]), float(p[1]), float(p[2])))
