@@ -25,7 +25,7 @@ KNOWLEDGE_FREE = ("knowledge-free", "random-net")
 LAWFUL = ("gravity", "solidity", "collision", "energy")
 
 
-def prepare(work: Path, seed: int, per_concept: int, world_n: int, minutes: float, jobs: int) -> dict[str, Path]:
+def prepare(work: Path, seed: int, per_concept: int, world_n: int, steps: int | None, jobs: int) -> dict[str, Path]:
     """Probes, worlds and a trained object-centric model (each made once under ``work``)."""
     from voe.concepts.generate import generate_probe_set, resolve_concepts
     from voe.models.train import TrainConfig, train
@@ -40,7 +40,7 @@ def prepare(work: Path, seed: int, per_concept: int, world_n: int, minutes: floa
         if not (p[key] / "manifest.json").exists():
             generate_world(p[key], n, s, SimConfig(size=64), "none", jobs, True)
     if not p["ckpt"].exists():
-        train("interaction", p["world"], p["ckpt"], TrainConfig(minutes=minutes, seed=seed, threads=1))
+        train("interaction", p["world"], p["ckpt"], TrainConfig(steps=steps, minutes=30.0, seed=seed, threads=1))
     return p
 
 
@@ -148,7 +148,8 @@ def main() -> None:
     ap.add_argument("--split", choices=sorted(SPLITS), default="dev")
     ap.add_argument("--per-concept", type=int, default=20)
     ap.add_argument("--world-n", type=int, default=2000)
-    ap.add_argument("--minutes", type=float, default=4.0, help="training of the object-centric model")
+    ap.add_argument("--steps", type=int, default=None,
+                    help="training steps of the object-centric model (default: its preset)")
     ap.add_argument("--work", type=Path, default=None)
     ap.add_argument("--jobs", type=int, default=2)
     a = ap.parse_args()
@@ -162,7 +163,7 @@ def main() -> None:
     seed = SPLITS[a.split]
     work = a.work or Path(f"voe-work/validity-bench-{a.split}")
     t0 = time.monotonic()
-    p = prepare(work, seed, a.per_concept, a.world_n, a.minutes, a.jobs)
+    p = prepare(work, seed, a.per_concept, a.world_n, a.steps, a.jobs)
     runs = score_models(p, work)
     t1 = time.monotonic()
     fams = tuple(f for f in FAMILIES if f != "counterfactual")
@@ -174,6 +175,11 @@ def main() -> None:
     stat_sets = {name: set_table(as_run(ps, statistic(ps, f"stat:{name}").traces, name, name))
                  for name in ("motion-energy", "density", "stress-frame", "stress-step")}
     print(f"split {a.split} (seed {seed}), {a.per_concept} sets per concept, probes {p['probes']}")
+    from voe.models.checkpoint import read_checkpoint
+
+    ck = read_checkpoint(p["ckpt"])
+    print(f"trained {ck['model']}: {ck['steps']} of {ck.get('steps_budget', '?')} steps in {ck['seconds']:.0f} s"
+          f"{' (stopped by the time cap)' if ck.get('time_capped') else ''}, validation NLL {ck['val_nll']:.2f}")
     print("cells: accuracy, declaration (P pass, F fail, C chance, N not learned, - none), "
           "! not as declared, * could not fail")
     print(cells_table(matrix))

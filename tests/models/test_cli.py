@@ -26,7 +26,7 @@ def test_user_model_checked_by_reference(tiny_world):
     ("tests.models.user_model:WrongShape", 2, "returned shape (20,), expected (B, T) = (6, 20)"),
     ("tests.models.user_model:NaNInside", 2, "NaN at clip 0, frame 5"),
     ("tests.models.user_model:Nothing", 1, "has no attribute 'Nothing'"),
-    ("interactoin", 1, "did you mean 'interaction-v2'"),
+    ("interactoin", 1, "did you mean 'interaction-v3'"),
 ])
 def test_bad_models_exit_with_one_line(ref, code, msg, tiny_world):
     r = voe("model", "check", ref, "--data", str(tiny_world))
@@ -50,5 +50,5 @@ def test_bad_checkpoints_and_data(tmp_path, tiny_world):
 def test_model_list():
     r = voe("model", "list")
     assert r.returncode == 0
-    for name in ("framecopy-v1", "constvel-v1", "oracle-v1", "mlp-v1", "interaction-v2", "pixel-v1"):
+    for name in ("framecopy-v1", "constvel-v1", "oracle-v1", "mlp-v2", "interaction-v2", "interaction-v3", "pixel-v1"):
         assert name in r.stdout

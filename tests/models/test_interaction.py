@@ -2,8 +2,8 @@
 
 What must hold: hidden objects are carried by the model's own predictions (with a variance that
 grows while hidden), the loss on reappearance reaches the steps before the occlusion (training
-through occlusions), random networks of the architecture forget what they cannot see (so they sit
-at chance on hidden splices), and the model keeps the harness contract.
+through occlusions), and the model keeps the harness contract. Whether random networks of an
+architecture sit at chance is measured on probe sets (``bench/random_nets.py``), not here.
 """
 
 from __future__ import annotations
@@ -47,31 +47,45 @@ def _batch(clips: list[tuple[np.ndarray, np.ndarray]]) -> Batch:
     return Batch(np.zeros((B, T, 8, 8), np.uint8), states, present, FEATURE_NAMES, 0.05, (geo,) * B)
 
 
+ARCHS = ["interaction-v2", "interaction-v3"]
+
+
 def _persistent(model):
-    """Open every gate (g = 1): the untrained network then carries each slot at constant velocity;
-    and give the Gaussian the mixture (outlier weight ~5e-5 instead of ~1)."""
+    """Set the step to constant velocity (v2: every gate open, g = 1; v3: the linear map that
+    moves x, y, angle by dt times their velocity and keeps the rest): the untrained network then
+    carries each slot at constant velocity; and give the Gaussian the mixture (outlier weight
+    ~5e-5 instead of ~1)."""
+    head = model.net.head
     with torch.no_grad():
-        model.net.head.theta.fill_(1.0 / model.net.head.GAIN)
-        model.net.head.outlier_theta.fill_(1.5 / model.net.head.OUTLIER_GAIN)
+        if head.theta.ndim == 1:
+            head.theta.fill_(1.0 / head.GAIN)
+        else:
+            w = torch.zeros(10, 13)
+            w[:, :10] = torch.eye(10)
+            w[0:3, 10:13] = torch.eye(3)
+            head.theta.copy_(w / head.GAIN)
+        head.outlier_theta.fill_(1.5 / head.OUTLIER_GAIN)
     return model
 
 
-def test_hidden_objects_are_rolled_forward_and_grow_uncertain():
+@pytest.mark.parametrize("arch", ARCHS)
+def test_hidden_objects_are_rolled_forward_and_grow_uncertain(arch):
     from voe.models.loading import load_model
 
-    m = _persistent(load_model("interaction"))
+    m = _persistent(load_model(arch))
     b = _batch([_clip(1.0, 3.0), _clip(1.0, 3.0, jump=1.5)])
     nll = m.frame_nll(b)  # (2, T)
     assert nll[0, BACK] < nll[1, BACK] - 5.0, "a jump behind the screen must surprise a persistent model"
     np.testing.assert_allclose(nll[0, :BACK], nll[1, :BACK])  # identical until the reappearance
 
 
-def test_uncertainty_grows_with_the_time_hidden():
+@pytest.mark.parametrize("arch", ARCHS)
+def test_uncertainty_grows_with_the_time_hidden(arch):
     """Reappearing exactly where expected costs more after a long occlusion than after a short
     one: the carried variance accumulates along the rollout."""
     from voe.models.loading import load_model
 
-    m = _persistent(load_model("interaction"))
+    m = _persistent(load_model(arch))
     long, short = _clip(1.0, 3.0), _clip(1.0, 3.0, hide=False)
     short[1][BACK - 2:BACK, 0] = False
     short[0][BACK - 2:BACK, 0] = np.nan
@@ -79,13 +93,14 @@ def test_uncertainty_grows_with_the_time_hidden():
     assert nll[0, BACK] > nll[1, BACK] + 0.5, nll[:, BACK]
 
 
-def test_reappearance_loss_reaches_the_frames_before_the_occlusion():
+@pytest.mark.parametrize("arch", ARCHS)
+def test_reappearance_loss_reaches_the_frames_before_the_occlusion(arch):
     """Training through occlusions: the cost of the reappearance frame depends, through every
     rolled-out hidden step, on the state observed before the object went behind the screen."""
     from voe.models.interaction import rollout_nll
     from voe.models.loading import load_model
 
-    m = _persistent(load_model("interaction"))
+    m = _persistent(load_model(arch))
     m.net.train()
     d = m.prepare(_batch([_clip(1.0, 3.0)]))
     d["obs"].requires_grad_(True)
@@ -93,23 +108,6 @@ def test_reappearance_loss_reaches_the_frames_before_the_occlusion():
     g = d["obs"].grad[0]  # (T, K, 9)
     assert g[HIDE - 1, 0, 3].abs() > 0, "no gradient from the reappearance to the last seen velocity"
     assert g[HIDE:BACK].abs().sum() == 0  # hidden frames are not observed
-
-
-@pytest.mark.parametrize("seed", [0, 1, 2])
-def test_random_networks_forget_hidden_objects(seed):
-    """A random network of the architecture (random output layers, gates closed) carries no
-    memory across a long occlusion: two clips that differ only before the screen cost the same
-    after it, within the scorer's tie tolerance (so it ties hidden splices: chance)."""
-    from voe.controls.random_nets import random_network
-    from voe.scoring.metrics import TIE_ATOL
-
-    net = random_network("interaction", seed)
-    a, b = _clip(1.0, 3.0), _clip(1.0, 3.0)
-    b[0][:HIDE, 0, 0] -= 0.6  # another history (slower approach, same position behind the screen)
-    b[0][:HIDE, 0, 3] = 1.0
-    nll = net.frame_nll(_batch([a, b]))
-    assert not np.allclose(nll[0, 1:HIDE], nll[1, 1:HIDE])  # it does see the histories differ
-    assert abs(np.sum(nll[0, BACK:] - nll[1, BACK:])) < TIE_ATOL
 
 
 def test_keeps_the_model_contract(tiny_batch):

@@ -22,7 +22,7 @@ def test_training_lowers_val_nll_and_round_trips(tiny_world, tmp_path):
     assert cfg["seed"] == 0 and len(cfg["train_manifest_sha256"]) == 64
     assert cfg["feature_layout"]["feature_names"][0] == "x"
     a = load_model("interaction", checkpoint=tmp_path / "ck").frame_nll(val)
-    b = load_model("interaction-v2", checkpoint=tmp_path / "ck").frame_nll(val)
+    b = load_model("interaction-v3", checkpoint=tmp_path / "ck").frame_nll(val)
     np.testing.assert_array_equal(a, b)
     assert np.nanmean(a) == pytest.approx(meta["val_nll"], abs=1e-4)
 
@@ -43,7 +43,7 @@ def mlp_ckpt(tiny_world, tmp_path_factory):
 
 
 def test_checkpoint_of_another_model_is_refused(mlp_ckpt):
-    with pytest.raises(CheckpointError, match="trained for model 'mlp-v1', not 'interaction-v2'"):
+    with pytest.raises(CheckpointError, match="trained for model 'mlp-v2', not 'interaction-v3'"):
         load_model("interaction", checkpoint=mlp_ckpt)
 
 
@@ -56,7 +56,7 @@ def test_checkpoint_with_other_architecture_is_refused(mlp_ckpt, tmp_path):
     cfg["config"]["hidden"] = 32
     (bad / "config.json").write_text(json.dumps(cfg))
     (bad / "weights.safetensors").write_bytes((mlp_ckpt / "weights.safetensors").read_bytes())
-    with pytest.raises(CheckpointError, match="does not fit mlp-v1"):
+    with pytest.raises(CheckpointError, match="does not fit mlp-v2"):
         load_model("mlp", checkpoint=bad)
 
 

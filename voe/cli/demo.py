@@ -31,8 +31,8 @@ def register(app: typer.Typer) -> None:
 
         if quick:
             cfg = DemoConfig(per_concept=4, world_n=60, cf_world_n=40, calib_n=30, size=32, seed=seed, validity=validity,
-                             minutes={"interaction": 0.1, "pixel": 0.1, "mlp": 0.1,
-                                      "cf-gravity_off": 0.1, "cf-pass_through": 0.1})
+                             steps={"interaction": 10, "pixel": 10, "mlp": 20,
+                                    "cf-gravity_off": 10, "cf-pass_through": 10})
         else:
             cfg = DemoConfig(seed=seed, validity=validity)
         work = work or scratch_dir(f"demo{'-quick' if quick else ''}-seed{seed}")

@@ -14,8 +14,10 @@ def train(
     model: str = typer.Argument(..., help="Registered model name (see `voe model list`)."),
     data: Path = typer.Option(..., "--data", help="Training set from `voe world generate`."),
     out: Path = typer.Option(..., "--out", help="Checkpoint directory to write."),
-    steps: int = typer.Option(None, "--steps", min=1, help="Optimiser steps."),
-    minutes: float = typer.Option(None, "--minutes", min=0.01, help="Wall-clock budget (default 3)."),
+    steps: int = typer.Option(None, "--steps", min=1, help="Optimiser steps (default: the model's preset); "
+                                                            "the learning-rate schedule follows the steps."),
+    minutes: float = typer.Option(None, "--minutes", min=0.01, help="Safety cap on wall time; a capped run "
+                                                                     "is recorded as such and depends on the machine."),
     device: str = typer.Option("cpu", "--device", help="cpu or cuda."),
     seed: int = typer.Option(0, "--seed", help="Seed of initialisation, split and batches."),
     val_frac: float = typer.Option(0.1, "--val-frac", min=0.0, max=0.9, help="Held-out fraction."),
@@ -28,12 +30,8 @@ def train(
     from voe.models.train import TrainConfig
     from voe.models.train import train as run
 
-    if steps is not None and minutes is not None:
-        raise VoeError("give --steps or --minutes, not both")
     if device not in ("cpu", "cuda"):
         raise VoeError(f"--device must be cpu or cuda, got '{device}'")
-    if steps is None and minutes is None:
-        minutes = 3.0
     from voe.io.probeset import load_probe_set
     from voe.models import MODELS
 

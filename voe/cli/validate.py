@@ -26,7 +26,8 @@ def register(app: typer.Typer) -> None:
                                         help="Sets per concept if generating (default: enough for a "
                                              "perfect score per condition to be decisive, 18 for 8 concepts)."),
         world_n: int = typer.Option(600, "--world-n", min=10, help="Training clips if generating."),
-        train_minutes: float = typer.Option(3.0, "--train-minutes", help="Per counterfactual model."),
+        train_steps: int = typer.Option(None, "--train-steps", min=1,
+                                        help="Optimiser steps per counterfactual model (default: its preset)."),
         seed: int = typer.Option(0),
         jobs: int = typer.Option(1, "--jobs", min=1, help="Controls built and scored at a time."),
         overwrite: bool = typer.Option(False, help="Replace a non-empty --out that is not an earlier validity report."),
@@ -60,7 +61,7 @@ def register(app: typer.Typer) -> None:
         typer.echo(f"scratch directory (reused on rerun): {work}")
         with output_lock(work):
             matrix = run(out, work, probes, world, user, fams or None, per_concept, world_n, seed,
-                         train_minutes=train_minutes, say=typer.echo, jobs=jobs, show_paths=show_paths)
+                         train_steps=train_steps, say=typer.echo, jobs=jobs, show_paths=show_paths)
         live = matrix[matrix["could_fail"].eq(True)]
         fixed = matrix[matrix["could_fail"].eq(False)]
         typer.echo(f"wrote {out}/validity.md: cells that could have failed: {int(live['as_declared'].eq(True).sum())} "

@@ -32,7 +32,7 @@ class ControlSetup:
         work: a scratch directory for checkpoints, counterfactual worlds and runs.
         seed: seed for world generation and training.
         world_n: clips per counterfactual world (same scenes as ``world``'s seed).
-        train_minutes: CPU minutes per counterfactual model.
+        train_steps: optimiser steps per counterfactual model (``None``: the model's preset).
         checkpoints: counterfactual name -> an existing checkpoint to reuse instead of training.
     """
 
@@ -40,7 +40,7 @@ class ControlSetup:
     work: Path
     seed: int = 0
     world_n: int = 600
-    train_minutes: float = 3.0
+    train_steps: int | None = None
     model_args: tuple[tuple[str, Any], ...] = ()
     checkpoints: tuple[tuple[str, str], ...] = ()
 
@@ -74,8 +74,8 @@ def _counterfactual(ctrl: Control, setup: ControlSetup, say: Callable[[str], Non
         generate_world(world, setup.world_n, setup.seed, SimConfig(size=size), ctrl.train_on, jobs=2)
     ckpt = setup.work / "checkpoints" / ctrl.name
     if not ckpt.exists():
-        say(f"training {ctrl.model} on the {ctrl.train_on} world for {setup.train_minutes} min")
-        train(ctrl.model, world, ckpt, TrainConfig(minutes=setup.train_minutes, seed=setup.seed),
+        say(f"training {ctrl.model} on the {ctrl.train_on} world ({setup.train_steps or 'preset'} steps)")
+        train(ctrl.model, world, ckpt, TrainConfig(steps=setup.train_steps, seed=setup.seed),
               dict(setup.model_args))
     return load_model(ctrl.model, None, ckpt), ckpt
 

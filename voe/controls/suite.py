@@ -59,7 +59,7 @@ def ensure_world(world: Path | None, work: Path, n: int, seed: int, size: int) -
 def validate_suite(out: Path, work: Path, probes: Path | None = None, world: Path | None = None,
                    user_controls: Sequence[Control] = (), families: tuple[str, ...] | None = None,
                    per_concept: int | None = None, world_n: int = 600, seed: int = 0, size: int = 64,
-                   train_minutes: float = 3.0, checkpoints: dict[str, str] | None = None,
+                   train_steps: int | None = None, checkpoints: dict[str, str] | None = None,
                    say: Callable[[str], None] = print, jobs: int = 1, show_paths: bool = False) -> pd.DataFrame:
     """Run built-in and user controls on a probe set and write the validity report to ``out``.
 
@@ -83,7 +83,7 @@ def validate_suite(out: Path, work: Path, probes: Path | None = None, world: Pat
                             f"{probes} has {ps.manifest['frame_size']}; generate them at one --size")
     controls = builtin_controls(families) if families else builtin_controls()
     controls = [*controls, *user_controls]
-    setup = ControlSetup(world=world, work=work, seed=seed, world_n=world_n, train_minutes=train_minutes,
+    setup = ControlSetup(world=world, work=work, seed=seed, world_n=world_n, train_steps=train_steps,
                          checkpoints=tuple((checkpoints or {}).items()))
     stats = [c for c in controls if c.model.startswith("stat:")]
     scored = [c for c in controls if not c.model.startswith("stat:")]

@@ -14,9 +14,14 @@ MODELS.register("constvel-v1", "voe.models.constvel:ConstantVelocity", observati
 MODELS.register("oracle-v1", "voe.models.oracle:PhysicsOracle", observation="states", learned=False,
                 summary="pymunk re-simulation from the observed state with calibrated noise (upper bound)")
 # learned (torch)
-MODELS.register("mlp-v1", "voe.models.mlp:FlatMLP", observation="states", learned=True,
-                summary="flat Gaussian MLP over all slots, no object structure")
+MODELS.register("mlp-v2", "voe.models.mlp:FlatMLP", observation="states", learned=True,
+                summary="flat Gaussian MLP over a window of k observed frames of all slots; no object "
+                        "structure, no memory")
 MODELS.register("interaction-v2", "voe.models.interaction:InteractionNet", observation="states", learned=True,
-                summary="object-centric interaction network; rolls hidden objects forward on its own predictions")
+                summary="object-centric interaction network; rolls hidden objects forward on its own predictions "
+                        "through a gated built-in Euler step")
+MODELS.register("interaction-v3", "voe.models.interaction:InteractionNetV3", observation="states", learned=True,
+                summary="object-centric interaction network; rolls hidden objects forward through a learned "
+                        "linear integrator (nothing physical built in)")
 MODELS.register("pixel-v1", "voe.models.pixel:PixelModel", observation="frames", learned=True,
                 summary="conv predictor with ConvGRU memory, per-pixel Bernoulli")

@@ -10,9 +10,12 @@ network has learned that it does. Training runs over whole clips of the ordinary
 rolled-out hidden step. The surprise at reappearance is the likelihood of the observed state under
 the rolled-out prediction, whose variance grows along the rollout (``RolloutHead``).
 
-Nothing physical is built in: untrained, the output layers and gates are zero and the model is the
-same uniform distribution for every clip; a random network (random output layers, gates closed)
-does not carry a hidden object's state forward, so it cannot compare history with outcome.
+How a slot's state becomes its next mean and variance is the head's job
+(``voe.models.rollout_heads``): ``interaction-v2`` gates a built-in Euler step ``x + dt v``, which
+random networks with open gates already use to carry hidden objects (so random v2 networks are
+off chance on hidden splices); ``interaction-v3`` learns a linear integrator of the slot state
+instead, with nothing physical at any parameter value. Untrained, both are the same uniform
+distribution for every clip (zero output layers, gates or map, outlier weight ~1).
 
 References: Battaglia et al. 2016, "Interaction Networks"; Sanchez-Gonzalez et al. 2020 (learned
 simulators rolled out on their own predictions); Piloto et al. 2022 (PLATO, object-centric VoE).
@@ -28,7 +31,8 @@ from torch import nn
 
 from voe.io.batch import Batch
 from voe.models import slot_rollout as sr
-from voe.models.state_head import DELTA_SCALE, TYPICAL, W0, StateHead, bounded_logvar, cell_nll
+from voe.models.rollout_heads import IntegratorHead, RolloutHead
+from voe.models.state_head import DELTA_SCALE, bounded_logvar, cell_nll
 from voe.models.torchbase import TorchModel
 
 OUT = 18  # presence, 6 mean corrections, 9 log-variances, shape, exist correction
@@ -46,64 +50,8 @@ def mlp(a: int, h: int, b: int) -> nn.Sequential:
     return nn.Sequential(nn.Linear(a, h), nn.SiLU(), nn.Linear(h, h), nn.SiLU(), nn.Linear(h, b))
 
 
-class RolloutHead(StateHead):
-    """The shared state head with ten gated features (nine ``CONT`` and ``exist``).
-
-    ``mean_f = c_f + g_f * (guess_f - c_f) + correction`` where ``guess`` is the slot state moved
-    one Euler step by its own velocity (for x, y, angle) and the state itself otherwise, and
-    ``g = GAIN * theta`` starts at zero: an untrained or random network predicts the typical state
-    whatever it saw. The predicted variance is the network's one-step variance plus the carried
-    variance pushed through the gated step (``step_logvar``), so along a hidden rollout the variance
-    accumulates with the gates the model learned (a Kalman-style prediction step).
-
-    The gains only speed up learning (a whole-clip step is costly, so there are few of them); they
-    change nothing at initialisation, where every gated parameter is zero.
-    """
-
-    GAIN = 10.0  # a gate opens in ~50 Adam steps
-    LV_GAIN = 20.0  # likewise for the one-step log-variance's per-feature offset
-    OUTLIER_GAIN = 5.0  # the outlier weight falls from ~1 in ~70 Adam steps instead of ~350
-
-    def __init__(self) -> None:
-        super().__init__()
-        self.c = nn.Parameter(torch.tensor((*TYPICAL, 0.0)))
-        self.theta = nn.Parameter(torch.zeros(10))
-        self.lv_bias = nn.Parameter(torch.zeros(9))  # per-feature log-variance offset, x LV_GAIN
-        self.presence_screen = nn.Linear(2, 1, bias=False)  # covered / outside at the predicted state
-        nn.init.zeros_(self.presence_screen.weight)
-
-    def log_outlier(self) -> tuple[torch.Tensor, torch.Tensor]:
-        z = W0 - 20.0 * self.OUTLIER_GAIN * self.outlier_theta
-        return nn.functional.logsigmoid(z), nn.functional.logsigmoid(-z)
-
-    def randomize(self, gen: torch.Generator) -> None:
-        """As ``StateHead.randomize`` (the Gaussian gets about half the mixture)."""
-        super().randomize(gen)
-        with torch.no_grad():
-            self.outlier_theta.div_(self.OUTLIER_GAIN)
-
-    def gates(self) -> torch.Tensor:
-        return self.GAIN * self.theta  # (10,)
-
-    def step_mean(self, cont: torch.Tensor, exist: torch.Tensor, dt: torch.Tensor) -> torch.Tensor:
-        # cont: (B, K, 9), exist: (B, K), dt: (B,) -> (B, K, 10)
-        moved = cont[..., 0:3] + dt[:, None, None] * cont[..., 3:6]
-        guess = torch.cat([moved, cont[..., 3:], exist[..., None]], -1)
-        return self.c + self.gates() * (guess - self.c)
-
-    def step_logvar(self, lv_step: torch.Tensor, lv: torch.Tensor, dt: torch.Tensor) -> torch.Tensor:
-        """Log-variance ``(B, K, 9)`` of the prediction: the network's one-step variance plus the
-        carried variance pushed through the gated Euler step (``x' = c + g (x + dt v - c)``, so
-        ``var x' = g^2 (var x + dt^2 var v)``: a hidden object's position grows uncertain with
-        its speed's uncertainty)."""
-        lg2 = torch.log(self.gates()[:9] ** 2 + 1e-30)  # (9,)
-        ldt2 = 2 * torch.log(dt)[:, None, None]  # (B, 1, 1)
-        moved = torch.cat([torch.logaddexp(lv[..., 0:3], ldt2 + lv[..., 3:6]), lv[..., 3:]], -1)
-        return torch.logaddexp(lv_step, lg2 + moved).clamp(-14.0, 8.0)
-
-
 class InteractionModule(nn.Module):
-    def __init__(self, c: InteractionConfig) -> None:
+    def __init__(self, c: InteractionConfig, head: type[RolloutHead] = RolloutHead) -> None:
         super().__init__()
         h = c.hidden
         self.node = mlp(sr.D, h, h)
@@ -112,7 +60,7 @@ class InteractionModule(nn.Module):
         self.edge = mlp(2 * h + sr.REL, h, h)
         self.h = h
         self.out = mlp(2 * h + sr.D, h, OUT)
-        self.head = RolloutHead()
+        self.head = head()
         nn.init.zeros_(self.out[-1].weight)  # untrained = the same prediction for every input
         nn.init.zeros_(self.out[-1].bias)
 
@@ -167,11 +115,12 @@ def rollout_nll(net: InteractionModule, d: dict[str, torch.Tensor]) -> torch.Ten
         hid, outside = sr.covered(cont_next.detach(), circ.detach(), geo["occluders"], geo["extent"])
         p_logit = (out[..., 0] + head.presence_bias()
                    + head.presence_screen(torch.stack([hid, outside], -1).to(out)).squeeze(-1))
-        s_logit = out[..., 16] + head.shape_gain * (2 * circ - 1)
+        s_logit = head.shape_logit(out[..., 16], circ)
         cost = _frame_cost(head, mean[..., :9], lv_next, p_logit, s_logit, obs[:, t + 1], pres[:, t + 1],
                            circ_obs[:, t + 1], f64)
         frames.append(cost)
-        cont, lv, exist, circ = cont_next, lv_next, mean[..., 9], torch.sigmoid(s_logit)
+        # exist is a belief in [0, 1]; unclamped, a learned map can blow it up along a rollout
+        cont, lv, exist, circ = cont_next, lv_next, mean[..., 9].clamp(0.0, 1.0), torch.sigmoid(s_logit)
     return torch.stack(frames, 1)  # (B, T)
 
 
@@ -193,9 +142,9 @@ class InteractionNet(TorchModel):
     Config = InteractionConfig
     observation = "states"
     #: training presets: whole clips per step (window = clip length: hidden rollouts start at the
-    #: first frame), learning rate
-    presets = {"cpu": {"batch": 64, "window": 10**6, "lr": 3e-3},
-               "cuda": {"batch": 256, "window": 10**6, "lr": 2e-3}}
+    #: first frame), learning rate, steps (about 4 min on one idle CPU core)
+    presets = {"cpu": {"batch": 64, "window": 10**6, "lr": 3e-3, "steps": 600},
+               "cuda": {"batch": 256, "window": 10**6, "lr": 2e-3, "steps": 2000}}
     model_id = "interaction-v2"
 
     def build(self) -> nn.Module:
@@ -209,3 +158,14 @@ class InteractionNet(TorchModel):
 
     def batch_layout(self, batch: Batch) -> dict[str, Any]:
         return sr.layout(batch)
+
+
+class InteractionNetV3(InteractionNet):
+    """``interaction-v3``: the same network with a learned linear integrator instead of the gated
+    Euler step (``voe.models.rollout_heads.IntegratorHead``): no physical step at any parameter
+    value, so random networks of it are random functions."""
+
+    model_id = "interaction-v3"
+
+    def build(self) -> nn.Module:
+        return InteractionModule(self.config, IntegratorHead)

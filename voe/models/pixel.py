@@ -54,6 +54,14 @@ class PixelNet(nn.Module):
             nn.init.zeros_(layer.weight)
             nn.init.zeros_(layer.bias)
 
+    def randomize(self, gen: torch.Generator) -> None:
+        """For random-network controls: the copy weight drawn like the weight of a one-input
+        linear layer (``U(-1, 1)`` effective), so random networks range from anti-copy to a weak
+        copy instead of all sharing the untrained "no copy" (the zero output layers are drawn by
+        ``TorchModel.randomize_outputs``)."""
+        with torch.no_grad():
+            self.copy.copy_((2 * torch.rand((), generator=gen) - 1) / COPY_SCALE)
+
     def forward(self, bits: torch.Tensor) -> torch.Tensor:
         """Logits ``(B, T-1, H, W)`` for frames 1..T-1 from bits ``(B, T, H, W)``."""
         B, T, H, W = bits.shape
@@ -76,8 +84,9 @@ class PixelModel(TorchModel):
 
     Config = PixelConfig
     observation = "frames"
-    #: training presets: clips (windows) per step, window length in frames, learning rate
-    presets = {"cpu": {"batch": 8, "window": 12, "lr": 2e-3}, "cuda": {"batch": 32, "window": 40, "lr": 1e-3}}
+    #: training presets: clips (windows) per step, window length in frames, learning rate, steps
+    presets = {"cpu": {"batch": 8, "window": 12, "lr": 2e-3, "steps": 400},
+               "cuda": {"batch": 32, "window": 40, "lr": 1e-3, "steps": 2000}}
     model_id = "pixel-v1"
 
     def build(self) -> nn.Module:

@@ -2,19 +2,15 @@
 
 Why: the learned state models must put their surprise in the same observation space as the
 references (``voe.models.statelik``): per slot, presence, shape, and a diagonal Gaussian over the
-nine continuous features. The flat MLP emits ``OUT = 17`` numbers per slot (the interaction
-network extends this head, see ``voe.models.interaction.RolloutHead``):
+nine continuous features, mixed with a uniform outlier component. What predicts the mean and the
+variance differs per model (``voe.models.rollout_heads`` for the interaction networks,
+``voe.models.mlp`` for the flat window model); the outlier weight, the presence bias, the cell
+likelihood and its training-mode gradient are shared here.
 
-    0      presence logit for t+1
-    1-6    mean correction of (x, y, angle, vx, vy, omega)
-    7-15   log-variance of the nine features (bounded to [-14, 5])
-    16     shape logit (circle)
-
-The mean is ``c + g * (guess - c) + correction`` (see ``StateHead``). The gates ``g`` and the
-networks' last layers start at zero, so an *untrained* model predicts the same
-distribution for every object whatever it saw: a frame-only scorer, which ties exactly on spliced
-matched sets (chance). Whatever a trained model knows, even "things keep moving", it learned. Never-seen slots go through the same head (their inputs are
-zero and flagged unknown), so appearing and tracked objects are not treated differently by design.
+The networks' last layers start at zero and the outlier weight at ~1, so an *untrained* model
+predicts the same distribution for every object whatever it saw: a constant, which ties exactly
+on matched sets. The random-network controls (``voe.controls.random_nets``) draw every such
+parameter at random instead.
 """
 
 from __future__ import annotations
@@ -26,7 +22,6 @@ from torch import nn
 
 from voe.models.statelik import QUANTUM, RANGE
 
-OUT = 17
 LOG2PI = math.log(2 * math.pi)
 DELTA_SCALE = (0.1, 0.1, 0.1, 1.0, 1.0, 1.0)
 W0 = 20.0  # outlier-weight logit at initialisation: an untrained model is uniform to ~1e-7 nats
@@ -38,29 +33,20 @@ TYPICAL = (5.0, 3.0, 0.0, 0.0, 0.0, 0.0, 0.9, 0.9, 0.8)
 
 
 class StateHead(nn.Module):
-    """Per-feature gates from the remembered state to the predicted mean, starting closed.
+    """The outlier weight and presence bias every learned state model's surprise goes through.
 
-    ``mean_f = c_f + g_f * (guess_f - c_f)`` where ``guess`` is the constant-velocity guess for
-    the dynamic features and the remembered value for the look, and ``g = GAIN * theta`` with
-    ``theta`` zero at initialisation (``GAIN`` lets Adam open a gate in ~100 steps).
+    The outlier weight starts at ``w ~ 1`` (``W0``) and the presence bias at ``C0``: an untrained
+    model is uniform over the slot observation space whatever its network computes.
     """
-
-    GAIN = 5.0
 
     def __init__(self) -> None:
         super().__init__()
         self.outlier_theta = nn.Parameter(torch.zeros(()))  # w = sigmoid(W0 - 20 theta)
         self.presence_phi = nn.Parameter(torch.zeros(()))  # presence bias = C0 - 100 phi
-        self.c = nn.Parameter(torch.tensor(TYPICAL))
-        self.theta = nn.Parameter(torch.zeros(9))
-        self.shape_gain = nn.Parameter(torch.zeros(()))
 
     def randomize(self, gen: torch.Generator) -> None:
         """A random outlier weight and presence bias (for random-network validity controls): the
-        Gaussian gets about half the mixture, so the network's random output matters. The gates
-        ``theta`` and ``shape_gain`` stay closed: opened, they would route the constant-velocity
-        guess and the remembered shape into the prediction, which is knowledge (inertia, shape
-        constancy), not a random function."""
+        Gaussian gets about half the mixture, so the network's random output matters."""
         with torch.no_grad():
             self.outlier_theta.copy_(1.0 + 0.05 * torch.randn((), generator=gen))
             self.presence_phi.copy_(0.01 * torch.randn((), generator=gen))
@@ -73,11 +59,10 @@ class StateHead(nn.Module):
         z = W0 - 20.0 * self.outlier_theta
         return nn.functional.logsigmoid(z), nn.functional.logsigmoid(-z)
 
-    def mean(self, base: torch.Tensor, mem: torch.Tensor) -> torch.Tensor:
-        # base, mem: (B, T, K, 9) -> (B, T, K, 9)
-        guess = torch.cat([base[..., :6], mem[..., 6:]], -1)
-        c = self.c.to(base.dtype)
-        return c + self.GAIN * self.theta.to(base.dtype) * (guess - c)
+
+def uniform_like(lo: torch.Tensor, hi: torch.Tensor, gen: torch.Generator) -> torch.Tensor:
+    """``U(lo, hi)`` elementwise (the random-network controls' draw of a bounded parameter)."""
+    return lo + (hi - lo) * torch.rand(lo.shape, generator=gen, dtype=lo.dtype)
 
 
 def bounded_logvar(raw: torch.Tensor) -> torch.Tensor:
@@ -123,36 +108,3 @@ def _cell_logp(r: torch.Tensor, sd: torch.Tensor) -> torch.Tensor:
     exact = lh + torch.log(-torch.expm1(d))
     dens = -0.5 * (r * r * torch.exp(-logvar) + logvar + LOG2PI) + torch.log(q)
     return torch.clamp(torch.where(ll - lh > -1e-6, dens, exact), max=0.0)
-
-
-def state_nll(out: torch.Tensor, head: StateHead, d: dict[str, torch.Tensor]) -> torch.Tensor:
-    """Surprise of frame t+1 given the head output at t.
-
-    Args:
-        out: ``(B, T-1, K, OUT)`` network output from inputs at t = 0..T-2.
-        d: tensors from ``voe.models.features.slot_features`` (as torch), length T.
-
-    Returns:
-        ``(B, T)`` with frame 0 set to 0 (the caller masks warm-up).
-    """
-    if not head.training:  # score in float64: an untrained model's equal costs stay equal
-        out = out.double()
-        d = {k: v.double() if v.is_floating_point() else v for k, v in d.items()}
-    known, pres = d["known"][:, :-1], d["present"][:, 1:]  # (B, T-1, K) at t and t+1
-    base, mem, obs = d["base"][:, :-1], d["mem"][:, :-1], d["obs"][:, 1:]  # (B, T-1, K, 9)
-    scale = out.new_tensor(DELTA_SCALE)
-    mean = head.mean(base, mem)
-    mean = torch.cat([mean[..., :6] + scale * out[..., 1:7], mean[..., 6:]], -1)
-    logvar = bounded_logvar(out[..., 7:16])
-    r = obs - mean
-    r = torch.cat([r[..., :2], torch.remainder(r[..., 2:3] + math.pi, 2 * math.pi) - math.pi, r[..., 3:]], -1)
-    gauss = cell_nll(r, logvar, obs, head).sum(-1)  # (B, T-1, K)
-    circ_mem = d["circle"][:, :-1].to(out.dtype) * known.to(out.dtype)
-    shape_logit = out[..., 16] + head.shape_gain * (2 * circ_mem - 1) * known.to(out.dtype)
-    shape = nn.functional.binary_cross_entropy_with_logits(shape_logit, d["circle"][:, 1:].to(out.dtype),
-                                                           reduction="none")
-    presence = nn.functional.binary_cross_entropy_with_logits(out[..., 0] + head.presence_bias(),
-                                                              pres.to(out.dtype), reduction="none")
-    per_slot = presence + torch.where(pres, gauss + shape, torch.zeros_like(gauss))
-    frame = per_slot.sum(-1)  # (B, T-1)
-    return torch.cat([torch.zeros_like(frame[:, :1]), frame], 1)  # (B, T)

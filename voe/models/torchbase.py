@@ -70,13 +70,18 @@ class TorchModel:
         return self
 
     def randomize_outputs(self, seed: int) -> None:
-        """Give the zero-initialised output layers (and output head) random, non-zero values.
+        """Give every parameter that is zero or fixed at initialisation a random value.
 
-        Why: a learned model starts with zero output layers so that, untrained, it is uniform
-        (a constant: it ties every matched set by construction). A *random network* validity
-        control must be a random, non-constant function of its inputs instead; this draws every
+        Why: a learned model starts with zero output layers, closed gates and a fixed "typical"
+        state so that, untrained, it is uniform (a constant: it ties every matched set by
+        construction). A *random network* validity control must be a random function of its
+        inputs with *nothing* left at a shared initial value: a closed gate kept closed in every
+        random network (as interaction-v2's once were) makes the control sample a smaller family
+        than the architecture, one that cannot fail where the gate matters. This draws every
         all-zero linear or convolutional layer from the default ``U(-1/sqrt(fan_in), ...)`` and
-        lets modules with a ``randomize(generator)`` method (the state head) do their own.
+        lets modules with a ``randomize(generator)`` method (state heads, the pixel model's copy
+        weight) draw their own, each over its natural range (the method's docstring says why).
+        ``tests/controls/test_random_nets.py`` fails for any parameter left shared by two seeds.
         """
         gen = torch.Generator().manual_seed(int(seed))
         with torch.no_grad():
@@ -86,7 +91,7 @@ class TorchModel:
                     m.weight.uniform_(-bound, bound, generator=gen)
                     if m.bias is not None:
                         m.bias.uniform_(-bound, bound, generator=gen)
-                if m is not self.net and hasattr(m, "randomize"):
+                if hasattr(m, "randomize"):
                     m.randomize(gen)
 
     # -- checkpoints -------------------------------------------------------------------------

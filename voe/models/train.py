@@ -32,7 +32,13 @@ from voe.models.clips import Clips, GroupSampler, MemoryClips, as_clips
 
 @dataclass(frozen=True)
 class TrainConfig:
-    """How long and where to train (the architecture is the model's own config)."""
+    """How long and where to train (the architecture is the model's own config).
+
+    ``steps`` is the budget: the learning-rate schedule depends on the step count only, so one
+    seed gives one checkpoint whatever the machine's load (``None``: the model preset's
+    ``steps``). ``minutes`` is only an outer safety cap; a run that hits it stops early and
+    records ``time_capped`` in its checkpoint (its weights then depend on the machine's speed).
+    """
 
     steps: int | None = None
     minutes: float | None = None
@@ -124,7 +130,7 @@ def fit(model: Any, train: Batch | Clips, val: Batch | Clips, cfg: TrainConfig,
     L = min(preset["window"], T)
     model.net.to(cfg.device)
     opt = torch.optim.Adam(model.net.parameters(), lr=preset["lr"])
-    steps = cfg.steps if cfg.steps is not None else 10**9
+    steps = int(cfg.steps if cfg.steps is not None else preset["steps"])
     deadline = time.monotonic() + 60 * cfg.minutes if cfg.minutes is not None else float("inf")
     best, best_state, history, step, skipped = float("inf"), None, [], 0, 0
     start = time.monotonic()
@@ -136,9 +142,8 @@ def fit(model: Any, train: Batch | Clips, val: Batch | Clips, cfg: TrainConfig,
         b = rng.integers(0, n_buf, preset["batch"])
         t0 = rng.integers(0, T - L + 1, preset["batch"])
         win = {k: v.to(cfg.device) for k, v in _windows(data, b, t0, L).items()}
-        done = step / steps if cfg.steps is not None else (time.monotonic() - start) / (60 * cfg.minutes)
         for g in opt.param_groups:  # linear decay to 5%: late steps refine the mean's precision
-            g["lr"] = preset["lr"] * (1 - 0.95 * min(done, 1.0))
+            g["lr"] = preset["lr"] * (1 - 0.95 * step / steps)
         loss = model.nll(win)[:, model.warmup:].mean()
         opt.zero_grad()
         loss.backward()
@@ -169,8 +174,8 @@ def fit(model: Any, train: Batch | Clips, val: Batch | Clips, cfg: TrainConfig,
                        f"{step} steps; no checkpoint written")
     model.net.load_state_dict({k: t.cpu() for k, t in best_state.items()})
     seconds = time.monotonic() - start
-    return {"steps": step, "seconds": seconds, "val_nll": best, "history": history,
-            "skipped_steps": skipped,
+    return {"steps": step, "steps_budget": steps, "time_capped": step < steps, "seconds": seconds,
+            "val_nll": best, "history": history, "skipped_steps": skipped,
             "train_frames_per_s": step * preset["batch"] * (L - model.warmup) / max(seconds, 1e-9),
             "train_groups": len(groups)}
 
