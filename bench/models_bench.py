@@ -8,7 +8,7 @@ on the same held-out clips.
 Usage::
 
     voe world generate --n 1200 --seed 0 --out /tmp/world --jobs 2
-    python bench/models_bench.py --data /tmp/world --minutes 3
+    python bench/models_bench.py --data /tmp/world [--steps N]
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ import numpy as np
 from voe.models.loading import load_model
 from voe.models.train import TrainConfig, fit, split_batches, val_nll
 
-PAIRS = {"mlp-v1": "constvel-v1", "interaction-v2": "constvel-v1", "pixel-v1": "framecopy-v1"}
+PAIRS = {"mlp-v2": "constvel-v1", "interaction-v3": "constvel-v1", "pixel-v1": "framecopy-v1"}
 REFERENCES = ("constvel-v1", "framecopy-v1", "oracle-v1")
 
 
@@ -35,7 +35,7 @@ def scoring_speed(model, batch) -> float:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--data", type=Path, required=True, help="training set (voe world generate)")
-    ap.add_argument("--minutes", type=float, default=3.0, help="training budget per learned model")
+    ap.add_argument("--steps", type=int, default=None, help="training steps per learned model (default: its preset)")
     ap.add_argument("--val-frac", type=float, default=0.1)
     ap.add_argument("--models", nargs="*", default=[*REFERENCES, *PAIRS])
     ap.add_argument("--seed", type=int, default=0)
@@ -47,14 +47,14 @@ def main() -> None:
     train, val, _ = split_batches(args.data, args.val_frac, args.seed)
     sub = val.take(slice(0, min(len(val), 32)))
     print(f"data {args.data}: {len(train)} train / {len(val)} val clips x {train.shape[1]} frames; "
-          f"torch threads 1; budget {args.minutes} min per learned model")
+          f"torch threads 1; {args.steps or 'preset'} steps per learned model")
     ref_nll: dict[str, float] = {}
     rows = []
     for mid in args.models:
         model = load_model(mid, {"seed": args.seed} if mid in PAIRS else None)
         start = time.perf_counter()
         if mid in PAIRS:
-            summary = fit(model, train, val, TrainConfig(minutes=args.minutes, seed=args.seed, eval_every=250))
+            summary = fit(model, train, val, TrainConfig(steps=args.steps, seed=args.seed, eval_every=250))
             train_fps, nll = summary["train_frames_per_s"], summary["val_nll"]
             extra = f"{summary['steps']} steps in {summary['seconds']:.0f} s"
         else:

@@ -56,7 +56,7 @@ def load_model(ref: str, args: dict[str, Any] | None = None, checkpoint: Path | 
     """Build a model by registered name or ``package.module:attr``, optionally from a checkpoint.
 
     Args:
-        ref: ``constvel``, ``interaction-v2``, ``mypkg.sim:MyModel`` ...
+        ref: ``constvel``, ``interaction-v3``, ``mypkg.sim:MyModel`` ...
         args: keyword arguments for the class or factory (``--model-arg k=v``).
         checkpoint: a directory written by ``voe train`` (config and weights).
 
