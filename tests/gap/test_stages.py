@@ -227,3 +227,24 @@ def test_centred_bootstrap_varies_about_the_fit():
         assert not lo[0] <= 0.4 <= hi[0]  # every resample steps the same way, off the fit
     finally:
         uncertainty.CENTRE = old
+
+
+def test_a_region_holding_every_contact_is_the_whole_floor():
+    from types import SimpleNamespace
+
+    from voe.gap.search import covers_contacts
+    from voe.gap.shooting import Window
+    from voe.sim.scenefile import StaticSpec
+
+    scene = SceneSpec((0.0, -9.81), (BodySpec("box", "box", mass=2.0, size=(0.2, 0.2)),),
+                      (StaticSpec((-5.0, 0.0), (5.0, 0.0), 0.0, 0.5, 0.5),))
+    t = np.arange(101) / 100
+    pose = np.stack([np.linspace(0.0, 2.0, 101), np.full(101, 0.1), np.zeros(101)], axis=1)[:, None]  # (T, 1, 3)
+    sh = SimpleNamespace(scene=scene, episodes=[Episode(0, t, pose)])
+    fitter = SimpleNamespace(shooter=sh, folds=[SimpleNamespace(pool=None, train=[Window(0, 0, 100)], test=[])])
+    region = EffectSum((EFFECTS.get("rolling_resistance_region")(),))
+    assert region.parts[0].global_name == "rolling_resistance"
+    assert covers_contacts(fitter, FitResult(region, np.array([0.1, -1.0, 3.0]), 0.0, 0.0))
+    assert not covers_contacts(fitter, FitResult(region, np.array([0.1, 0.5, 1.5]), 0.0, 0.0))  # a real patch
+    drag = EffectSum((EFFECTS.get("linear_drag")(),))
+    assert not covers_contacts(fitter, FitResult(drag, np.array([0.1]), 0.0, 0.0))
