@@ -41,3 +41,18 @@ def test_constant_acceleration_vector_recovered():
     fitter, _ = _fitter(scene, eps)
     res = fitter.fit(EFFECTS.get("constant_acceleration")(), max_nfev=20)
     np.testing.assert_allclose(res.params, [0.6, -0.4], atol=0.06)
+
+
+def test_point_attractor_is_fitted_from_its_two_most_promising_starts():
+    # bench case 5151034: the start near the true point but too strong screened worse than zero
+    # strength, and Powell started at zero strength never moved; both starts are now fitted
+    scene, eps = flight_episodes("point_attractor", [1.5, 0.5, 2.0], seed=4)
+    fitter, _ = _fitter(scene, eps)
+    eff = EFFECTS.get("point_attractor")()
+    assert eff.multi_start == 2 and EFFECTS.get("linear_drag").multi_start == 1
+    zero, near = np.array([0.0, -5.0, 5.0]), np.array([3.0, 0.55, 2.05])
+    assert fitter.cost(eff, near) > fitter.cost(eff, zero)  # the screen ranks zero strength first
+    res = fitter.fit(eff, [zero, near], max_nfev=12)
+    alone = fitter.fit(eff, [zero], max_nfev=12)
+    # from zero strength alone the search lands in another valley (a far, strong attractor)
+    assert res.train_cost < 0.5 * alone.train_cost and abs(res.params[0] - 1.5) < 0.5

@@ -16,7 +16,7 @@ from voe.gap.effects import EFFECTS
 from voe.gap.rollout import KICK_EVERY, run_many
 from voe.gap.shooting import local_state
 from voe.gap.stages import context_for
-from voe.sim.lockstep import schedule
+from voe.sim.lockstep import _kick_dts, schedule
 from voe.sim.scenefile import BodySpec, JointSpec, SceneSpec, SimWorld
 
 from .conftest import flight_episodes
@@ -54,6 +54,20 @@ def test_every_effect_is_simulated_bit_for_bit_as_one_window_at_a_time(arena):
         slow = _reference(case.scene, starts, times, 1e-3, eff, p)
         for a, b in zip(fast, slow, strict=True):
             np.testing.assert_array_equal(a, b, err_msg=f"effect {name}")
+
+
+def test_kick_intervals_computed_once_are_those_of_every_kick():
+    """``_kick_dts`` gives, to the bit, what each kick computed for itself: k times the substep it
+    precedes, a finished window keeping its last substep."""
+    rng = np.random.default_rng(3)
+    hs = [schedule(np.cumsum(np.r_[0.0, rng.uniform(0.008, 0.012, n)]), 1e-3)[0] for n in (7, 12, 9)]
+    lengths = [len(h) for h in hs]
+    for k in (1, 4, 8):
+        got = _kick_dts(hs, lengths, k)
+        kicks = range(0, max(lengths), k)
+        assert got.shape == (len(kicks), 3)
+        want = [[k * h[min(j, n - 1)] for h, n in zip(hs, lengths, strict=True)] for j in kicks]
+        assert got.tolist() == want
 
 
 def test_uneven_time_stamps_and_sums_of_effects(arena):

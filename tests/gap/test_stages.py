@@ -204,3 +204,47 @@ def test_restitution_region_changes_bounces_only_inside_its_interval():
     assert peak(0.0, np.array([1.0, -0.5, 0.5])) == pytest.approx(free, abs=1e-6)  # nominal: unchanged
     both = (EFFECTS.get("linear_drag")() + eff).materials(np.array([0.0, 0.3, -0.5, 0.5]), scene)
     assert both.region_elasticity == (0.3, -0.5, 0.5)
+
+
+def test_centred_bootstrap_varies_about_the_fit():
+    # the fit was made on a subset of windows (a sparse effect's focus), so the summed gradient
+    # over all windows is not zero; an uncentred one-step bootstrap then runs off to a bound
+    from voe.gap import uncertainty
+
+    scene, eps = flight_episodes(n=2, duration=1.0, seed=5)
+    ctx = context_for(scene, eps)
+    eff = EFFECTS.get("linear_drag")()
+    rng = np.random.default_rng(0)
+    hs = np.full((30, 1, 1), 1e4)  # (W, P, P)
+    gs = 3e3 + rng.normal(0, 100, (30, 1))  # (W, P): a common offset plus scatter
+    terms = (hs, gs, np.arange(30) // 5)
+    lo, hi, _ = uncertainty.quantiles(terms, eff, np.array([0.4]), ctx)
+    assert lo[0] <= 0.4 <= hi[0] and hi[0] - lo[0] < 0.01
+    old = uncertainty.CENTRE
+    try:
+        uncertainty.CENTRE = False
+        lo, hi, _ = uncertainty.quantiles(terms, eff, np.array([0.4]), ctx)
+        assert not lo[0] <= 0.4 <= hi[0]  # every resample steps the same way, off the fit
+    finally:
+        uncertainty.CENTRE = old
+
+
+def test_a_region_holding_every_contact_is_the_whole_floor():
+    from types import SimpleNamespace
+
+    from voe.gap.search import covers_contacts
+    from voe.gap.shooting import Window
+    from voe.sim.scenefile import StaticSpec
+
+    scene = SceneSpec((0.0, -9.81), (BodySpec("box", "box", mass=2.0, size=(0.2, 0.2)),),
+                      (StaticSpec((-5.0, 0.0), (5.0, 0.0), 0.0, 0.5, 0.5),))
+    t = np.arange(101) / 100
+    pose = np.stack([np.linspace(0.0, 2.0, 101), np.full(101, 0.1), np.zeros(101)], axis=1)[:, None]  # (T, 1, 3)
+    sh = SimpleNamespace(scene=scene, episodes=[Episode(0, t, pose)])
+    fitter = SimpleNamespace(shooter=sh, folds=[SimpleNamespace(pool=None, train=[Window(0, 0, 100)], test=[])])
+    region = EffectSum((EFFECTS.get("rolling_resistance_region")(),))
+    assert region.parts[0].global_name == "rolling_resistance"
+    assert covers_contacts(fitter, FitResult(region, np.array([0.1, -1.0, 3.0]), 0.0, 0.0))
+    assert not covers_contacts(fitter, FitResult(region, np.array([0.1, 0.5, 1.5]), 0.0, 0.0))  # a real patch
+    drag = EffectSum((EFFECTS.get("linear_drag")(),))
+    assert not covers_contacts(fitter, FitResult(drag, np.array([0.1]), 0.0, 0.0))

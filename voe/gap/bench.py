@@ -198,12 +198,13 @@ def run_case(args: tuple) -> dict:
         effects, verdict = finder.effects_, finder.verdict_
     except Exception as exc:  # a crash is a failed case, reported, not a lost bench
         return {**base, "found": f"error: {type(exc).__name__}: {exc}"[:120], "names": ["error"], "group": [],
-                "verdict": "error", "located": 0, "n_effects": 1, "null_strength": 0,
+                "verdict": "error", "located": 0, "n_effects": 1, "null_strength": 0, "dropped": [],
                 "before": float("nan"), "after": float("nan")}
     names = [e["name"] for e in effects]
     found = names[0] if names else "none"
     out = {**base, "found": found, "names": names, "group": finder.groups_[0] if finder.groups_ else [],
            "verdict": verdict, "located": len(finder.located_), "n_effects": len(effects),
+           "dropped": [d["effect"] for d in finder.checked_.dropped],
            "null_strength": sum(_null_strength(e) for e in effects),
            "before": finder.fit_["before"], "after": finder.fit_["after"]}
     if effects and found == truth:

@@ -155,15 +155,23 @@ class Fitter:
         scale = effect.scale(self.ctx)
         starts = list(starts) if starts is not None else effect.starts(self.ctx)
         starts = [np.clip(s, lo, hi) for s in starts]
-        if len(starts) > 1:  # pick the most promising start by training cost on a third of the windows
+        n_fit = effect.parts[-1].multi_start if len(starts) > 1 else 1
+        if len(starts) > 1:  # rank starts by training cost on a third of the windows
             sub = self._on(self.train[::3], self._weights[::3])
-            starts = [min(starts, key=lambda s: sub.cost(effect, s))]
-        x0 = starts[0]
-        on = self.focused(effect, x0, lo, hi, scale)
-        if effect.n_params == 1:
-            x, cost = on._scalar(effect, x0, lo, hi, scale, nfev)
-        else:
-            x, cost = on._powell(effect, x0, lo, hi, scale, nfev)
+            costs = [sub.cost(effect, s) for s in starts]
+            starts = [starts[i] for i in np.argsort(costs, kind="stable")[:n_fit]]
+        best = None
+        for x0 in starts:  # one start, or an effect's ``multi_start`` most promising ones
+            on = self.focused(effect, x0, lo, hi, scale)
+            if effect.n_params == 1:
+                x, cost = on._scalar(effect, x0, lo, hi, scale, nfev)
+            else:
+                x, cost = on._powell(effect, x0, lo, hi, scale, nfev)
+            if len(starts) > 1:  # compare on the full training windows, not a focused subset
+                cost = self.cost(effect, x)
+            if best is None or cost < best[1]:
+                best = (x, cost)
+        x, cost = best
         sse = self.heldout_sse(effect, x)
         return FitResult(effect, x, cost, float(np.sqrt(sse.sum() / self._n_test)), sse)
 

@@ -20,7 +20,16 @@ from voe.gap.effects.base import Effect
 from voe.gap.fit import FitResult
 from voe.gap.folds import FoldedFitter, as_sum
 from voe.gap.null import NullSearch
-from voe.gap.search import Round, RoundTask, accept_all, choose, fit_rounds, gain_lower_bound, tie_break
+from voe.gap.search import (
+    Round,
+    RoundTask,
+    accept_all,
+    choose,
+    covers_contacts,
+    fit_rounds,
+    gain_lower_bound,
+    tie_break,
+)
 
 
 @dataclass(frozen=True)
@@ -69,6 +78,10 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
             break
         winner, kept, basis = (group[0], (group[0],), "alone") if len(group) == 1 else \
             tie_break(fitter, group, results, pool, contexts, gains, noise)
+        plain = pool[winner].global_name
+        if plain in results and gains[plain] > thr and lower.get(plain, 1.0) > 0 and covers_contacts(fitter, results[winner]):
+            kept = (plain,) + tuple(k for k in kept if k != plain)
+            winner, basis = plain, f"{winner}'s interval holds every contact: named {plain}, the whole floor"
         rounds.append(Round(before, results, gains, lower, thr, winner, kept, basis))
         pool.pop(winner)  # the group's other members stay candidates
         goes_on = bool(pool) and r + 1 < max_effects

@@ -26,6 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from voe.gap.context import frame_labels
 from voe.gap.effects.base import Effect
 from voe.gap.fit import FitResult
 from voe.gap.folds import FoldedFitter
@@ -199,6 +200,37 @@ def tie_break(fitter: FoldedFitter, group: list[str], results: dict[str, FitResu
         return best, kept, f"chosen on the {int(differ.sum())} selection windows where the group's predictions differ"
     ranked = sorted(group, key=lambda k: (0 if context_match(candidates[k].contexts, contexts) else 1, -gains[k]))
     return ranked[0], tuple(ranked), "predictions differ in no selection window; named by the located context"
+
+
+COVER = 0.99  # a region holding this share of the contact samples is no region
+
+
+def covers_contacts(fitter: FoldedFitter, res: FitResult) -> bool:
+    """Whether the newest part of ``res``, a region effect, holds (nearly) every contact sample.
+
+    Why: on data from a uniform floor, a region effect whose interval spans every place a body
+    touched is the unlimited effect with two more parameters, and it can fit a little better
+    (development case 5151011: a true global rolling resistance named
+    ``rolling_resistance_region`` over x -2.31..5.57 m, every contact lying between -1.25 and
+    5.47 m). The data then cannot tell a patch from the whole floor, and the simpler name is
+    the honest one. Contact samples are frames labelled rolling, sliding or impact
+    (``voe.gap.context.frame_labels``) of the fitting and selection episodes.
+    """
+    part = res.effect.parts[-1]
+    if part.global_name is None:
+        return False
+    x0, x1 = sorted(res.params[-2:])
+    sh = fitter.shooter
+    eps = sorted({w.ep for f in fitter.folds for w in (f.pool or f.train) + f.test})
+    mask = part.mask(sh.scene)
+    xs = []
+    for e in eps:
+        ep = sh.episodes[e]
+        lab = frame_labels(sh.scene, ep)  # (T, B)
+        touch = np.isin(lab, ("rolling", "sliding", "impact")) & mask[None]
+        xs.append(ep.pose[:, :, 0][touch])
+    xs = np.concatenate(xs) if xs else np.zeros(0)
+    return bool(xs.size) and float(np.mean((xs >= x0) & (xs <= x1))) >= COVER
 
 
 def choose(gains: dict[str, float], lower: dict[str, float], threshold: float) -> list[str]:

@@ -102,14 +102,14 @@ def run_lockstep(worlds: list[SimWorld], times: list[np.ndarray], substep: float
     active = [(worlds[i].space._space, hs[i]) for i in order]  # noqa: SLF001
     ends_at = [lengths[i] for i in order]
     k_kick = max(1, round(kick_every / substep))
-    kick = _Kick(worlds, force, bufs[nw], rows) if force is not None else None
+    kick = _Kick(worlds, force, bufs[nw], rows, _kick_dts(hs, lengths, k_kick)) if force is not None else None
     step = lib.cpSpaceStep
     for j in range(max(lengths)):
         while ends_at[-1] <= j:  # the shortest window is done
             ends_at.pop()
             active.pop()
         if kick is not None and j % k_kick == 0:
-            kick([k_kick * h[min(j, n - 1)] for h, n in zip(hs, lengths, strict=True)])
+            kick(j // k_kick)
         for space, h in active:
             step(space, h[j])
         done = record.get(j)
@@ -118,6 +118,15 @@ def run_lockstep(worlds: list[SimWorld], times: list[np.ndarray], substep: float
                 poses[i].read()
     nb = len(worlds[0].bodies)
     return [r.array(rows, 3)[:, :nb].copy() for r in poses]
+
+
+def _kick_dts(hs: list[list[float]], lengths: list[int], k_kick: int) -> np.ndarray:
+    """(K, W) kick interval of every world at each of the K kicks: ``k_kick`` times the substep
+    the kick precedes (a world already done keeps its last substep), as ``SimWorld.run`` has it.
+    Computed once per rollout instead of at every kick (the same products, to the bit)."""
+    at = np.arange(0, max(lengths), k_kick)  # (K,) substep index of each kick
+    return np.stack([k_kick * np.asarray(h)[np.minimum(at, n - 1)] for h, n in zip(hs, lengths, strict=True)],
+                    axis=1)
 
 
 def _buffers(n: int) -> list[pymunk.batch.Buffer]:
@@ -176,7 +185,8 @@ class _Kick:
     body's velocity is written only where its force (or torque) is non-zero.
     """
 
-    def __init__(self, worlds: list[SimWorld], force: StackedForce, buf: pymunk.batch.Buffer, rows: int) -> None:
+    def __init__(self, worlds: list[SimWorld], force: StackedForce, buf: pymunk.batch.Buffer, rows: int,
+                 dts: np.ndarray) -> None:
         self.force, self.rows = force, rows
         self.readers = [_Reader(w.space, buf, _STATE) for w in worlds]
         self.ptrs = [b._body for w in worlds for b in w.bodies]  # noqa: SLF001
@@ -185,6 +195,8 @@ class _Kick:
         self.moment = np.concatenate([w._moment for w in worlds])  # noqa: SLF001
         self.gravity = worlds[0]._gravity  # noqa: SLF001
         self._touching: np.ndarray | None = None
+        self.dt = np.repeat(dts, self.per_world, axis=1)  # (K, W*B) per kick and body
+        self.dt_mass = (self.dt / self.mass)[:, :, None]  # (K, W*B, 1): dt / m, as v += f * (dt / m)
 
     def _contact(self) -> np.ndarray:
         """(W*B,) bool: the body has an arbiter (touches something); computed once per kick."""
@@ -198,7 +210,8 @@ class _Kick:
             self._touching = out
         return self._touching.copy()
 
-    def __call__(self, dt_world: list[float]) -> None:
+    def __call__(self, m: int) -> None:
+        """Kick ``m`` (its intervals are row ``m`` of the rollout's ``_kick_dts``)."""
         self.readers[0].reset()
         for r in self.readers:
             r.read()
@@ -207,16 +220,15 @@ class _Kick:
         self._touching = None
         st = SimState(raw[:, 0:2], vel, raw[:, 2], raw[:, 5], self.mass, self.moment, self.gravity, self._contact)
         f, tau = self.force(st)  # (N, 2), (N,)
-        dt = np.repeat(np.asarray(dt_world, dtype=float), self.per_world)  # (N,)
-        if f.any():
+        if np.count_nonzero(f):
             set_v = lib.cpBodySetVelocity
-            v_new = (vel + f * (dt / self.mass)[:, None]).tolist()  # (N, 2)
+            v_new = (vel + f * self.dt_mass[m]).tolist()  # (N, 2)
             for ptr, v, fb in zip(self.ptrs, v_new, f.tolist(), strict=True):
                 if fb[0] or fb[1]:
                     set_v(ptr, v)
-        if tau.any():
+        if np.count_nonzero(tau):
             set_w = lib.cpBodySetAngularVelocity
-            w_new = (st.omega + tau * dt / self.moment).tolist()  # (N,)
+            w_new = (st.omega + tau * self.dt[m] / self.moment).tolist()  # (N,)
             for ptr, w, tb in zip(self.ptrs, w_new, tau.tolist(), strict=True):
                 if tb:
                     set_w(ptr, w)

@@ -56,6 +56,8 @@ class Effect:
     acts: ClassVar[str] = "always"  # when it acts: "always", "contact" (at contacts/impacts), "region", "joint"
     flight_regression: ClassVar[bool] = True  # free-flight accelerations can seed its starts (voe.gap.prefit)
     bench_scene: ClassVar[str | None] = None  # the bench scene it is concealed in ("arena", "pendulum"), or None
+    multi_start: ClassVar[int] = 1  # simulator fits from its this many most promising starts (voe.gap.fit)
+    global_name: ClassVar[str | None] = None  # a region effect's unlimited version (voe.gap.search.covers_contacts)
 
     def __init__(self, bodies: tuple[str, ...] | None = None) -> None:
         self.bodies = tuple(bodies) if bodies else None

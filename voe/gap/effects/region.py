@@ -65,6 +65,7 @@ class FrictionRegion(_Region):
     units = ("", "m", "m")
     summary = "sliding contacts between x0 and x1 have a different friction coefficient (a floor patch)"
     STRENGTHS, LOW, HIGH, STEP = (0.3, -0.2), -1.0, 2.0, 0.1
+    global_name = "friction"
 
     def _forces(self, state: SimState, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         w = state.contact().astype(float) * inside(state.pos[:, 0], p[1], p[2])  # (B,)
@@ -90,6 +91,7 @@ class RollingResistanceRegion(_Region):
     units = ("", "m", "m")
     summary = "bodies touching the floor between x0 and x1 slow down at a constant rate (a soft patch)"
     STRENGTHS, LOW, HIGH, STEP = (0.05,), 0.0, 1.0, 0.02
+    global_name = "rolling_resistance"
 
     def _forces(self, state: SimState, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         w = state.contact().astype(float) * inside(state.pos[:, 0], p[1], p[2])  # (B,)

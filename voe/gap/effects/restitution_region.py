@@ -30,6 +30,7 @@ class RestitutionRegion(_Region):
     contexts = ("region", "impact")
     summary = "bounces between x0 and x1 keep a different fraction of speed (a floor patch)"
     LOW, HIGH, STEP = 0.0, 1.0, 0.1
+    global_name = "restitution"
 
     @property
     def has_forces(self) -> bool:
