@@ -4,7 +4,8 @@ Why: the random-network control (``voe.controls.random_nets``) is what decides w
 model's verdict is *learned* or *confounded*, so a design should be checked against it on a
 development probe set before anything is trained. This scores ``--seeds`` random networks exactly
 as the validity suite does (same control, every parameter random) and prints per concept the
-accuracy of each, the verdicts and whether its confidence interval contains 0.5. The reference in
+accuracy of each and every cell whose confidence interval excludes 0.5 or that is learned
+(the cells that would make a trained model's verdict *confounded*). The reference in
 the same run is the untrained network (a constant: exactly 0.50 everywhere).
 
 Usage: python bench/random_nets.py PROBES [--arch interaction] [--seeds 10]   (a development set)
@@ -22,6 +23,7 @@ from voe.controls.random_nets import random_network
 from voe.models.loading import load_model
 from voe.report.build import build_report
 from voe.scoring.score import score_probe_set
+from voe.scoring.verdict import LEARNED
 
 
 def main() -> None:
@@ -45,10 +47,10 @@ def main() -> None:
     s["concept"] = s["concept"].str.split("-v").str[0].str[:8]
     print(f"random {a.arch} networks ({a.seeds} seeds, every parameter random) on {a.probes}; runs in {out}")
     print(s.pivot(index="model", columns="concept", values="accuracy").round(2).to_string())
-    off = s[(s["ci_low"] > 0.5) | (s["ci_high"] < 0.5) | (s["verdict"] != "not-learned")]
-    off = off[~off["model"].str.startswith("untrained")]
-    print("verdicts:", s.groupby("verdict").size().to_dict())
-    print(f"cells off chance or not 'not-learned': {len(off)} of {int((~s['model'].str.startswith('untrained')).sum())}"
+    rand = s[~s["model"].str.startswith("untrained")]
+    off = rand[(rand["ci_low"] > 0.5) | (rand["ci_high"] < 0.5) | (rand["verdict"] == LEARNED)]
+    print("verdicts of the random networks:", rand.groupby("verdict").size().to_dict())
+    print(f"cells off chance (CI without 0.5) or learned: {len(off)} of {len(rand)}"
           + "".join(f"\n  {r.model} x {r.concept}: {r.accuracy:.2f} [{r.ci_low:.2f}, {r.ci_high:.2f}] {r.verdict}"
                     for r in off.itertuples()))
 
