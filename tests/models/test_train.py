@@ -27,6 +27,34 @@ def test_training_lowers_val_nll_and_round_trips(tiny_world, tmp_path):
     assert np.nanmean(a) == pytest.approx(meta["val_nll"], abs=1e-4)
 
 
+@pytest.mark.parametrize("model", ["interaction", "mlp"])
+def test_the_same_seed_and_steps_give_the_same_checkpoint(model, tiny_world, tmp_path, monkeypatch):
+    """The budget is steps and the schedule follows the step count only: the wall clock (here a
+    clock that jumps an hour per call) changes nothing, unless the minutes cap is hit, and
+    then the checkpoint says so."""
+    import time
+
+    from safetensors.numpy import load_file
+
+    cfg = TrainConfig(steps=6, val_frac=0.25, eval_every=3)
+    train(model, tiny_world, tmp_path / "a", cfg)
+    real, t = time.monotonic, [0.0]
+
+    def jumpy() -> float:
+        t[0] += 3600.0
+        return real() + t[0]
+
+    monkeypatch.setattr(time, "monotonic", jumpy)
+    meta = train(model, tiny_world, tmp_path / "b", cfg)
+    assert meta["steps"] == 6 and not meta["time_capped"]
+    a, b = load_file(str(tmp_path / "a" / "weights.safetensors")), load_file(str(tmp_path / "b" / "weights.safetensors"))
+    assert all(np.array_equal(a[k], b[k]) for k in a)
+    step_s = [15.0]  # now every clock reading is 15 s later: a 1-minute cap stops the run early
+    monkeypatch.setattr(time, "monotonic", lambda: real() + (step_s.append(step_s[-1] + 15.0) or step_s[-1]))
+    capped = train(model, tiny_world, tmp_path / "c", TrainConfig(steps=6, minutes=1.0, val_frac=0.25, eval_every=1))
+    assert capped["time_capped"] and 1 <= capped["steps"] < 6
+
+
 def test_reference_calibration_round_trips(tiny_world, tmp_path):
     meta = train("constvel", tiny_world, tmp_path / "cv", TrainConfig(val_frac=0.25))
     _, val, _ = split_batches(tiny_world, 0.25, 0)
