@@ -143,7 +143,7 @@ class InteractionNet(TorchModel):
     observation = "states"
     #: training presets: whole clips per step (window = clip length: hidden rollouts start at the
     #: first frame), learning rate, steps (about 4 min on one idle CPU core)
-    presets = {"cpu": {"batch": 64, "window": 10**6, "lr": 3e-3, "steps": 600},
+    presets = {"cpu": {"batch": 64, "window": 10**6, "lr": 3e-3, "steps": 700},
                "cuda": {"batch": 256, "window": 10**6, "lr": 2e-3, "steps": 2000}}
     model_id = "interaction-v2"
 
