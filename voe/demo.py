@@ -43,6 +43,26 @@ def _train_job(job: tuple[str, str, str, int, float, int, dict[str, Any]]) -> di
     return train(model, Path(data), Path(out), TrainConfig(steps=steps, minutes=cap, seed=seed, threads=1), args)
 
 
+def reusable(ckpt: Path, say: Callable[[str], None] = print) -> bool:
+    """Whether a checkpoint left in the scratch directory by an earlier run can be reused.
+
+    Why: the scratch directory is reused by presence, and a run on a loaded machine once stopped
+    ``interaction`` at the safety cap (478 of 700 steps); every rerun then reported that
+    under-trained model as the demo's. A checkpoint that records ``time_capped`` is trained again
+    (``save_checkpoint`` replaces it atomically, so it stays until the new one is complete).
+    """
+    if not ckpt.exists():
+        return False
+    from voe.models.checkpoint import read_checkpoint
+
+    meta = read_checkpoint(ckpt)
+    if meta.get("time_capped"):
+        say(f"  {ckpt.name}: the stored checkpoint stopped at the time cap after {meta.get('steps')} of "
+            f"{meta.get('steps_budget')} steps; training it again")
+        return False
+    return True
+
+
 def run_demo(out: Path, work: Path, cfg: DemoConfig, say: Callable[[str], None] = print) -> dict[str, Any]:
     """Run the whole pipeline; returns timings (seconds) per stage."""
     from voe.concepts.generate import generate_probe_set, resolve_concepts
@@ -82,7 +102,7 @@ def run_demo(out: Path, work: Path, cfg: DemoConfig, say: Callable[[str], None] 
     if cfg.validity:
         jobs += [("interaction", str(worlds[cf][0]), str(ckpt / f"interaction-{cf}"),
                   cfg.steps[f"cf-{cf}"], cfg.minutes_cap, cfg.seed, {}) for cf in ("gravity_off", "pass_through")]
-    jobs = [j for j in jobs if not Path(j[2]).exists()]  # checkpoints are written atomically
+    jobs = [j for j in jobs if not reusable(Path(j[2]), say)]  # checkpoints are written atomically
     if jobs:
         say(f"training {len(jobs)} model(s), {cfg.jobs} at a time ({', '.join(f'{Path(j[2]).name} {j[3]}' for j in jobs)} steps)")
         for job, meta in zip(jobs, parallel_map(_train_job, jobs, cfg.jobs, ahead=len(jobs)), strict=True):
