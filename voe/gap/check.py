@@ -68,10 +68,9 @@ def check_step(p: Problem, loc: Location, s: Search, config: GapConfig, seed: in
         if all(ok):
             break
         k = ok.index(False)
-        a = sum(e.n_params for e in model.effect.parts[:k])
-        b = a + model.effect.parts[k].n_params
+        i = model.effect.split(np.arange(model.params.size))[k].astype(int)  # part k's parameter indices
         dropped.append({"effect": keys[k], "reason": "its 95 % interval contains the nominal value (not established)",
-                        "params": model.params[a:b].tolist(), "interval95": np.c_[lo[a:b], hi[a:b]].tolist()})
+                        "params": model.params[i].tolist(), "interval95": np.c_[lo[i], hi[i]].tolist()})
         eff, starts = without(model, k)
         model = None if eff is None else as_sum(s.fitter.refit(eff, starts, s.fitter.config.refine_nfev))
         keys, thresholds = keys[:k] + keys[k + 1:], thresholds[:k] + thresholds[k + 1:]

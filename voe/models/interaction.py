@@ -32,7 +32,7 @@ from torch import nn
 from voe.io.batch import Batch
 from voe.models import slot_rollout as sr
 from voe.models.rollout_heads import IntegratorHead, RolloutHead
-from voe.models.state_head import DELTA_SCALE, bounded_logvar, cell_nll
+from voe.models.state_head import DELTA_SCALE, bounded_logvar, frame_cost
 from voe.models.torchbase import TorchModel
 
 OUT = 18  # presence, 6 mean corrections, 9 log-variances, shape, exist correction
@@ -127,13 +127,10 @@ def rollout_nll(net: InteractionModule, d: dict[str, torch.Tensor]) -> torch.Ten
 def _frame_cost(head: RolloutHead, mean: torch.Tensor, lv: torch.Tensor, p_logit: torch.Tensor,
                 s_logit: torch.Tensor, obs: torch.Tensor, pres: torch.Tensor, circ: torch.Tensor,
                 f64: bool) -> torch.Tensor:
-    """``-log P(frame)`` ``(B,)``: per slot presence, and shape and cells where present."""
+    """``-log P(frame)`` ``(B,)`` (``frame_cost``), in float64 when scoring."""
     if f64:
         mean, lv, p_logit, s_logit, obs, circ = (v.double() for v in (mean, lv, p_logit, s_logit, obs, circ))
-    gauss = cell_nll(sr.wrap(obs - mean), lv, obs, head).sum(-1)  # (B, K)
-    shape = nn.functional.binary_cross_entropy_with_logits(s_logit, circ, reduction="none")
-    presence = nn.functional.binary_cross_entropy_with_logits(p_logit, pres.to(p_logit), reduction="none")
-    return (presence + torch.where(pres, gauss + shape, torch.zeros_like(gauss))).sum(-1)
+    return frame_cost(head, mean, lv, p_logit, s_logit, obs, pres, circ)
 
 
 class InteractionNet(TorchModel):

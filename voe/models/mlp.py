@@ -24,8 +24,7 @@ from torch import nn
 
 from voe.io.batch import Batch
 from voe.models import statelik as sl
-from voe.models.slot_rollout import wrap
-from voe.models.state_head import TYPICAL, StateHead, bounded_logvar, cell_nll
+from voe.models.state_head import TYPICAL, StateHead, bounded_logvar, frame_cost
 from voe.models.torchbase import TorchModel
 
 F_IN = 11  # per slot and frame: 9 CONT features (centred, scaled), circle, present
@@ -90,11 +89,8 @@ def window_nll(net: FlatNet, d: dict[str, torch.Tensor]) -> torch.Tensor:
     if not net.head.training:  # score in float64: an untrained model's equal costs stay equal
         out, obs, circ = out.double(), obs.double(), circ.double()
     mean = out.new_tensor(TYPICAL) + out.new_tensor(SCALE) * out[..., 1:10]
-    gauss = cell_nll(wrap(obs - mean), bounded_logvar(out[..., 10:19]), obs, net.head).sum(-1)  # (B, T-1, K)
-    shape = nn.functional.binary_cross_entropy_with_logits(out[..., 19], circ, reduction="none")
-    presence = nn.functional.binary_cross_entropy_with_logits(out[..., 0] + net.head.presence_bias(),
-                                                              pres.to(out.dtype), reduction="none")
-    frame = (presence + torch.where(pres, gauss + shape, torch.zeros_like(gauss))).sum(-1)  # (B, T-1)
+    frame = frame_cost(net.head, mean, bounded_logvar(out[..., 10:19]), out[..., 0] + net.head.presence_bias(),
+                       out[..., 19], obs, pres, circ)  # (B, T-1)
     return torch.cat([torch.zeros_like(frame[:, :1]), frame], 1)
 
 

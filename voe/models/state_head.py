@@ -20,6 +20,7 @@ import math
 import torch
 from torch import nn
 
+from voe.models.slot_rollout import wrap
 from voe.models.statelik import QUANTUM, RANGE
 
 LOG2PI = math.log(2 * math.pi)
@@ -108,3 +109,24 @@ def _cell_logp(r: torch.Tensor, sd: torch.Tensor) -> torch.Tensor:
     exact = lh + torch.log(-torch.expm1(d))
     dens = -0.5 * (r * r * torch.exp(-logvar) + logvar + LOG2PI) + torch.log(q)
     return torch.clamp(torch.where(ll - lh > -1e-6, dens, exact), max=0.0)
+
+
+def frame_cost(head: StateHead, mean: torch.Tensor, logvar: torch.Tensor, p_logit: torch.Tensor,
+               s_logit: torch.Tensor, obs: torch.Tensor, pres: torch.Tensor, circ: torch.Tensor) -> torch.Tensor:
+    """``-log P(frame)``: per slot, presence, and shape and the nine cells where present, summed
+    over slots.
+
+    Why here: every learned state model (the interaction networks' rollout and the flat window
+    model) scores a frame the same way; only how it predicts ``mean`` and ``logvar`` differs.
+
+    Args:
+        mean, logvar, obs: ``(..., K, 9)``; p_logit, s_logit, pres, circ: ``(..., K)``.
+
+    Returns:
+        ``(...)``.
+    """
+    gauss = cell_nll(wrap(obs - mean), logvar, obs, head).sum(-1)  # (..., K)
+    shape = nn.functional.binary_cross_entropy_with_logits(s_logit, circ, reduction="none")
+    presence = nn.functional.binary_cross_entropy_with_logits(p_logit, pres.to(p_logit), reduction="none")
+    return (presence + torch.where(pres, gauss + shape, torch.zeros_like(gauss))).sum(-1)
+
