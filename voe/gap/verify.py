@@ -7,6 +7,7 @@ residual still exceeds the located threshold, say whether what is left looks lik
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 
 import numpy as np
@@ -122,8 +123,12 @@ def explain(verdict: str, effects: list[dict], groups: list[list[str]], located:
         text += f" The mismatch was located in {len(located)} stretch(es), context: {', '.join(ctxs)}."
     for g, basis in zip(groups, bases or [""] * len(groups), strict=True):
         if len(g) > 1 and basis.startswith("chosen on"):
+            few = "; too few to rule out" in basis
+            n_differ = re.search(r"on the (\d+) selection", basis)
             text += (f" {' and '.join(g)} fit the selection windows within 10 % of each other; {g[0]} fits best on "
-                     f"the windows where their predictions differ.")
+                     f"the windows where their predictions differ" +
+                     (f", but there are {n_differ.group(1) if n_differ else 'few'} of them, too few to rule out {' and '.join(g[1:])}."
+                      if few else "."))
         elif len(g) > 1:
             text += f" The data cannot tell apart {' and '.join(g)} (selection errors within 10 %); {g[0]} is named first."
     text += (" The remaining residuals look like noise." if ver.looks_like_noise else
