@@ -276,3 +276,20 @@ def test_explanation_says_when_a_tie_break_rests_on_too_few_windows():
     assert "there are 2 of them, too few to rule out linear_drag" in few
     many = explain(*args, bases=["chosen on the 12 selection windows where the group's predictions differ"])
     assert "too few" not in many and "fits best on the windows where their predictions differ." in many
+
+
+def test_consistent_text_does_not_deny_a_gain_that_was_dropped_as_not_established():
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from voe.gap.verify import explain
+
+    ver = SimpleNamespace(rmse_before=0.01, rmse_after=0.01, position_rmse_before=0.01, position_rmse_after=0.01,
+                          looks_like_noise=True, flagged_after=0.0)
+    args = ("consistent", [], [], [], ver, 0.05, np.full((2, 3), 1e-3), "test", 17.0)
+    dropped = ({"effect": "quadratic_drag", "reason": "its 95 % interval contains the nominal value (not established)"},)
+    text = explain(*args, dropped=dropped)
+    assert "no candidate effect cut the selection error" not in text
+    assert "distinguishable from the nominal scene" in text and "quadratic_drag was dropped" in text
+    assert "no candidate effect cut the selection error by more than the null threshold of 5.0 %" in explain(*args)

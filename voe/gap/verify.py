@@ -95,8 +95,10 @@ def explain(verdict: str, effects: list[dict], groups: list[list[str]], located:
                  f"{_where(located, z_strong)}, but across all windows the recordings depart no more than the "
                  f"replicate does (paired signed-rank p = {departure_p if departure_p is not None else float('nan'):.2g}),"
                  f" as isolated chaotic windows do")
-        text = (f"The recordings are consistent with the nominal simulation: {where}, and no candidate effect cut the "
-                f"selection error by more than the null threshold of {100 * threshold:.1f} % (noise floor about "
+        cut = ("no candidate effect that cut the selection error by more than the null threshold of "
+               f"{100 * threshold:.1f} % has a strength distinguishable from the nominal scene" if dropped else
+               f"no candidate effect cut the selection error by more than the null threshold of {100 * threshold:.1f} %")
+        text = (f"The recordings are consistent with the nominal simulation: {where}, and {cut} (noise floor about "
                 f"{noise_mm:.3g} mm).")
         return text + tail
     if verdict == "unexplained":
