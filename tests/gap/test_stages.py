@@ -248,3 +248,48 @@ def test_a_region_holding_every_contact_is_the_whole_floor():
     assert not covers_contacts(fitter, FitResult(region, np.array([0.1, 0.5, 1.5]), 0.0, 0.0))  # a real patch
     drag = EffectSum((EFFECTS.get("linear_drag")(),))
     assert not covers_contacts(fitter, FitResult(drag, np.array([0.1]), 0.0, 0.0))
+
+
+def test_a_tie_is_not_broken_on_too_few_windows():
+    import numpy as np
+
+    from voe.gap.search import sign_p
+
+    assert sign_p(np.array([1.0, 2.0])) > 0.05  # two wins out of two: no evidence
+    assert sign_p(np.array([1.0] * 8)) < 0.01  # eight of eight: evidence
+    assert sign_p(np.array([1.0, -1.0] * 4)) > 0.5 and sign_p(np.array([])) == 1.0
+
+
+def test_explanation_says_when_a_tie_break_rests_on_too_few_windows():
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from voe.gap.verify import explain
+
+    ver = SimpleNamespace(rmse_before=0.01, rmse_after=0.002, position_rmse_before=0.01, position_rmse_after=0.002,
+                          looks_like_noise=True, flagged_after=0.0)
+    eff = {"summary": "drag", "name": "rolling_resistance", "params": {"c_rr": 0.0015}, "interval95": {"c_rr": [0.001, 0.002]}}
+    args = ("mismatch", [eff], [["rolling_resistance", "linear_drag"]], [], ver, 0.05, np.full((2, 3), 1e-3), "test", 17.0)
+    few = explain(*args, bases=["chosen on the 2 selection windows where the group's predictions differ; too few to "
+                                "rule out linear_drag (one-sided sign test p > 0.05)"])
+    assert "there are 2 of them, too few to rule out linear_drag" in few
+    many = explain(*args, bases=["chosen on the 12 selection windows where the group's predictions differ"])
+    assert "too few" not in many and "fits best on the windows where their predictions differ." in many
+
+
+def test_consistent_text_does_not_deny_a_gain_that_was_dropped_as_not_established():
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from voe.gap.verify import explain
+
+    ver = SimpleNamespace(rmse_before=0.01, rmse_after=0.01, position_rmse_before=0.01, position_rmse_after=0.01,
+                          looks_like_noise=True, flagged_after=0.0)
+    args = ("consistent", [], [], [], ver, 0.05, np.full((2, 3), 1e-3), "test", 17.0)
+    dropped = ({"effect": "quadratic_drag", "reason": "its 95 % interval contains the nominal value (not established)"},)
+    text = explain(*args, dropped=dropped)
+    assert "no candidate effect cut the selection error" not in text
+    assert "distinguishable from the nominal scene" in text and "quadratic_drag was dropped" in text
+    assert "no candidate effect cut the selection error by more than the null threshold of 5.0 %" in explain(*args)
