@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from voe.gap.drift import drifts, split_estimates
+from voe.gap.drift import drifts, flight_drift, split_estimates
 from voe.gap.effects import EFFECTS
+from voe.gap.prefit import flight_samples
 from voe.gap.shooting import Shooter, make_windows, noise_model
 from voe.gap.stages import context_for
 from voe.gap.synth import simulate_episode
@@ -69,3 +70,16 @@ def test_split_estimates_worked_example():
                            scale=np.array([0.1])) is None  # curvature 3 x 0.1^2 per scale step: blind
     assert split_estimates(hs[:5], gs[:5], np.zeros(1), side[:5], slice(0, 1),
                            np.random.default_rng(0)) is None  # two windows are no estimate
+
+
+def test_flight_residual_of_a_constant_fitted_to_a_gust_changes_in_time():
+    eff = EFFECTS.get("constant_acceleration")()
+    for gust in (True, False):
+        scene, eps = _episodes(gust)
+        samples = flight_samples(scene, eps)
+        mean = samples.dacc.mean(axis=0)  # (2,) the best constant in flight
+        found = flight_drift(samples, eff, mean, scene)
+        if gust:
+            assert found is not None and found.flight and found.param == "x" and "changes in time" in found.reason()
+        else:
+            assert abs(mean[0] - 0.5) < 0.05 and found is None

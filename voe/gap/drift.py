@@ -37,9 +37,11 @@ import numpy as np
 from voe.gap.check import Checked, _test
 from voe.gap.effects.base import Effect, EffectSum, FitContext
 from voe.gap.folds import as_sum, without
+from voe.gap.prefit import FlightSamples, _missing
 from voe.gap.shooting import Shooter, Window, make_windows
 from voe.gap.stages import GapConfig, Location, Problem, Search, context_for
 from voe.gap.uncertainty import established, intervals, window_terms
+from voe.sim.scenefile import SceneSpec
 
 ALPHA = 0.05  # family-wise over every slot and parameter of a model (Bonferroni), as the null's alpha
 SLOT = 0.25  # s of episode time (the windows' stride): windows centred within one slot form a subsample
@@ -71,7 +73,14 @@ class Drift:
     late: float
     z: float
 
+    flight: bool = False  # from the free-flight residual (``flight_drift``), not the parameters
+
     def reason(self) -> str:
+        if self.flight:
+            return (f"in free flight the acceleration left unexplained in the slot starting {self.split.split(' ', 1)[1]} "
+                    f"into the episodes differs from the other times ({self.param}: {self.early:.3g} against "
+                    f"{self.late:.3g} m/s^2, t = {self.z:.1f}, family-wise p < {ALPHA:g}): what is missing changes in "
+                    f"time, which no library effect does")
         what = f"the windows centred {self.split.split(' ', 1)[1]} into the episodes and on the others"
         return (f"fitted on {what} it differs ({self.param} = {self.early:.3g} against {self.late:.3g}, "
                 f"{self.z:.0f} standard deviations apart, family-wise p < {ALPHA:g}): it changes in "
@@ -176,6 +185,11 @@ def drift_step(p: Problem, loc: Location, s: Search, c: Checked, config: GapConf
     windows = make_windows(p.episodes, list(p.split.fit), length, stride=stride, bad_start=p.bad)
     lo, hi = c.lower, c.upper
     found = drifts(p.shooter, p.sigma, windows, model.effect, model.params, ctx, config.fit.f_scale, seed, stride)
+    fl = flight_drift(ctx.flight, model.effect, model.params, p.scene)
+    if fl is not None:  # the force parts fitted the flight: they took up a force that changes in time
+        done = {d.part for d in found}
+        found += [replace(fl, part=k) for k, e in enumerate(model.effect.parts)
+                  if e.has_forces and e.flight_regression and k not in done]
     if not found:
         return c
     for d in sorted(found, key=lambda d: -d.part):  # from the last part, so indices stay valid
@@ -197,3 +211,52 @@ def drift_step(p: Problem, loc: Location, s: Search, c: Checked, config: GapConf
     nominal = model.effect.nominal(ctx) if model is not None else np.zeros(0)
     return replace(c, model=model, keys=tuple(keys), lower=lo, upper=hi, dropped=tuple(dropped), verification=ver,
                    test_note=note, nominal=nominal)
+
+
+FLIGHT_SLOT = 0.25  # s of episode time
+OUTLIER = 10.0  # robust sds from the median: a unit this far off holds a touch labelled flight
+
+
+def flight_drift(samples: FlightSamples | None, effect: Effect, params: np.ndarray, scene: SceneSpec) -> Drift | None:
+    """Does the acceleration left over in free flight, after ``effect`` at ``params``, change with
+    episode time? A Welch t-test of each ``FLIGHT_SLOT`` slot's residual against all others, per
+    axis, on one value per episode and slot (samples of one stretch are smoothed together, so an
+    episode's slot is one unit), family-wise ``ALPHA`` over slots and axes.
+
+    Why in flight: there the nominal acceleration is known exactly (gravity), so what is left is
+    the missing force per unit mass at a known time (``voe.gap.prefit``); a constant acceleration
+    fitted to a gust leaves the gust's swing, the same at the same time in every episode.
+    """
+    if samples is None or samples.time is None or len(samples) < 30:
+        return None
+    acc, _ = _missing(effect, params, samples, scene)
+    res = samples.dacc - acc  # (N, 2)
+    slot = np.floor(samples.time / FLIGHT_SLOT).astype(int)
+    units, labels = [], []
+    for key in sorted(set(zip(samples.episode.tolist(), slot.tolist(), strict=True))):
+        m = (samples.episode == key[0]) & (slot == key[1])
+        if m.sum() >= 5:
+            units.append(np.median(res[m], axis=0))  # a sample next to an unlabelled touch is far off
+            labels.append(key[1])
+    if len(units) < 6:
+        return None
+    u = np.array(units)  # (U, 2)
+    mad = 1.4826 * np.median(np.abs(u - np.median(u, axis=0)), axis=0)  # (2,)
+    keep = np.all(np.abs(u - np.median(u, axis=0)) <= OUTLIER * np.maximum(mad, 1e-9), axis=1)
+    units, labels = list(u[keep]), list(np.array(labels)[keep])
+    if len(units) < 6:
+        return None
+    u, lab = np.array(units), np.array(labels)  # (U, 2), (U,)
+    tests = [(a, j) for a in np.unique(lab) if 3 <= np.sum(lab == a) <= len(lab) - 3 for j in range(2)]
+    worst = None
+    for a, j in tests:
+        x, y = u[lab == a, j], u[lab != a, j]
+        vx, vy = x.var(ddof=1) / len(x), y.var(ddof=1) / len(y)
+        se = np.sqrt(vx + vy)
+        if se <= 0:
+            continue
+        df = (vx + vy) ** 2 / (vx**2 / (len(x) - 1) + vy**2 / (len(y) - 1))  # Welch-Satterthwaite
+        z = abs(x.mean() - y.mean()) / se
+        if z > critical(int(np.floor(df)), len(tests)) and (worst is None or z > worst.z):
+            worst = Drift(-1, "xy"[j], f"time {a * FLIGHT_SLOT:.2f} s", float(x.mean()), float(y.mean()), float(z), True)
+    return worst
