@@ -78,7 +78,7 @@ def test_flight_residual_of_a_constant_fitted_to_a_gust_changes_in_time():
         scene, eps = _episodes(gust)
         samples = flight_samples(scene, eps)
         mean = samples.dacc.mean(axis=0)  # (2,) the best constant in flight
-        found = flight_drift(samples, eff, mean, scene)
+        found = flight_drift(samples, eff, mean, scene, context_for(scene, eps))
         if gust:
             assert found is not None and found.flight and found.param == "x" and "changes in time" in found.reason()
         else:
