@@ -250,6 +250,33 @@ def test_a_region_holding_every_contact_is_the_whole_floor():
     assert not covers_contacts(fitter, FitResult(drag, np.array([0.1]), 0.0, 0.0))
 
 
+def test_sparse_bootstrap_draws_from_the_informative_windows():
+    # a mass acts only in the few windows with a collision: resamples holding none of them have
+    # no curvature, and before the stratified bootstrap their centred gradient stepped them to a
+    # bound (the interval then contained the nominal value and the right effect was dropped)
+    from voe.gap import uncertainty
+
+    scene, eps = flight_episodes(n=2, duration=1.0, seed=5)
+    ctx = context_for(scene, eps)
+    eff = EFFECTS.get("linear_drag")()
+    rng = np.random.default_rng(0)
+    hs = np.zeros((30, 1, 1))  # (W, P, P): 27 windows the parameter does not move
+    gs = np.zeros((30, 1))
+    hs[[3, 11, 20]] = 1e4
+    gs[[3, 11, 20]] = rng.normal(0, 100, (3, 1))
+    terms = (hs, gs, np.arange(30) // 5)
+    lo, hi, blind = uncertainty.quantiles(terms, eff, np.array([0.4]), ctx)
+    assert not blind[0] and lo[0] <= 0.4 <= hi[0] and hi[0] - lo[0] < 0.05
+    old = uncertainty.STRATIFY
+    try:
+        uncertainty.STRATIFY = False
+        lo, hi, _ = uncertainty.quantiles(terms, eff, np.array([0.4]), ctx)
+        lo_b, hi_b = eff.bounds(ctx)
+        assert lo[0] == lo_b[0] or hi[0] == hi_b[0]  # a resample without a collision runs to a bound
+    finally:
+        uncertainty.STRATIFY = old
+
+
 def test_a_tie_is_not_broken_on_too_few_windows():
     import numpy as np
 
