@@ -220,13 +220,13 @@ def test_centred_bootstrap_varies_about_the_fit():
     terms = (hs, gs, np.arange(30) // 5)
     lo, hi, _ = uncertainty.quantiles(terms, eff, np.array([0.4]), ctx)
     assert lo[0] <= 0.4 <= hi[0] and hi[0] - lo[0] < 0.01
-    old = uncertainty.CENTRE
+    old = uncertainty.CENTRE, uncertainty.STRATIFY
     try:
-        uncertainty.CENTRE = False
+        uncertainty.CENTRE = uncertainty.STRATIFY = False  # unstratified: no Wald floor about the fit
         lo, hi, _ = uncertainty.quantiles(terms, eff, np.array([0.4]), ctx)
         assert not lo[0] <= 0.4 <= hi[0]  # every resample steps the same way, off the fit
     finally:
-        uncertainty.CENTRE = old
+        uncertainty.CENTRE, uncertainty.STRATIFY = old
 
 
 def test_a_region_holding_every_contact_is_the_whole_floor():
@@ -273,6 +273,13 @@ def test_sparse_bootstrap_draws_from_the_informative_windows():
         lo, hi, _ = uncertainty.quantiles(terms, eff, np.array([0.4]), ctx)
         lo_b, hi_b = eff.bounds(ctx)
         assert lo[0] == lo_b[0] or hi[0] == hi_b[0]  # a resample without a collision runs to a bound
+        lo_b, hi_b = eff.bounds(ctx)
+        one = (hs.copy(), gs.copy(), terms[2])
+        one[0][[11, 20]] = 0.0  # a single informative window says nothing about its own spread
+        uncertainty.STRATIFY = True
+        lo, hi, blind = uncertainty.quantiles(one, eff, np.array([0.4]), ctx)
+        half = 1.96 / np.sqrt(1e4 + 1e-9 / eff.scale(ctx)[0] ** 2)  # the Wald floor of one window's curvature
+        assert not blind[0] and lo[0] == pytest.approx(0.4 - half) and hi[0] == pytest.approx(0.4 + half)
     finally:
         uncertainty.STRATIFY = old
 
