@@ -248,3 +248,75 @@ def test_a_region_holding_every_contact_is_the_whole_floor():
     assert not covers_contacts(fitter, FitResult(region, np.array([0.1, 0.5, 1.5]), 0.0, 0.0))  # a real patch
     drag = EffectSum((EFFECTS.get("linear_drag")(),))
     assert not covers_contacts(fitter, FitResult(drag, np.array([0.1]), 0.0, 0.0))
+
+
+def test_sparse_bootstrap_draws_from_the_informative_windows():
+    # a mass acts only in the few windows with a collision: resamples holding none of them have
+    # no curvature, and before the stratified bootstrap their centred gradient stepped them to a
+    # bound (the interval then contained the nominal value and the right effect was dropped)
+    from voe.gap import uncertainty
+
+    scene, eps = flight_episodes(n=2, duration=1.0, seed=5)
+    ctx = context_for(scene, eps)
+    eff = EFFECTS.get("linear_drag")()
+    rng = np.random.default_rng(0)
+    hs = np.zeros((30, 1, 1))  # (W, P, P): 27 windows the parameter does not move
+    gs = np.zeros((30, 1))
+    hs[[3, 11, 20]] = 1e4
+    gs[[3, 11, 20]] = rng.normal(0, 100, (3, 1))
+    terms = (hs, gs, np.arange(30) // 5)
+    lo, hi, blind = uncertainty.quantiles(terms, eff, np.array([0.4]), ctx)
+    assert not blind[0] and lo[0] <= 0.4 <= hi[0] and hi[0] - lo[0] < 0.05
+    old = uncertainty.STRATIFY
+    try:
+        uncertainty.STRATIFY = False
+        lo, hi, _ = uncertainty.quantiles(terms, eff, np.array([0.4]), ctx)
+        lo_b, hi_b = eff.bounds(ctx)
+        assert lo[0] == lo_b[0] or hi[0] == hi_b[0]  # a resample without a collision runs to a bound
+    finally:
+        uncertainty.STRATIFY = old
+
+
+def test_a_tie_is_not_broken_on_too_few_windows():
+    import numpy as np
+
+    from voe.gap.search import sign_p
+
+    assert sign_p(np.array([1.0, 2.0])) > 0.05  # two wins out of two: no evidence
+    assert sign_p(np.array([1.0] * 8)) < 0.01  # eight of eight: evidence
+    assert sign_p(np.array([1.0, -1.0] * 4)) > 0.5 and sign_p(np.array([])) == 1.0
+
+
+def test_explanation_says_when_a_tie_break_rests_on_too_few_windows():
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from voe.gap.verify import explain
+
+    ver = SimpleNamespace(rmse_before=0.01, rmse_after=0.002, position_rmse_before=0.01, position_rmse_after=0.002,
+                          looks_like_noise=True, flagged_after=0.0)
+    eff = {"summary": "drag", "name": "rolling_resistance", "params": {"c_rr": 0.0015}, "interval95": {"c_rr": [0.001, 0.002]}}
+    args = ("mismatch", [eff], [["rolling_resistance", "linear_drag"]], [], ver, 0.05, np.full((2, 3), 1e-3), "test", 17.0)
+    few = explain(*args, bases=["chosen on the 2 selection windows where the group's predictions differ; too few to "
+                                "rule out linear_drag (one-sided sign test p > 0.05)"])
+    assert "there are 2 of them, too few to rule out linear_drag" in few
+    many = explain(*args, bases=["chosen on the 12 selection windows where the group's predictions differ"])
+    assert "too few" not in many and "fits best on the windows where their predictions differ." in many
+
+
+def test_consistent_text_does_not_deny_a_gain_that_was_dropped_as_not_established():
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from voe.gap.verify import explain
+
+    ver = SimpleNamespace(rmse_before=0.01, rmse_after=0.01, position_rmse_before=0.01, position_rmse_after=0.01,
+                          looks_like_noise=True, flagged_after=0.0)
+    args = ("consistent", [], [], [], ver, 0.05, np.full((2, 3), 1e-3), "test", 17.0)
+    dropped = ({"effect": "quadratic_drag", "reason": "its 95 % interval contains the nominal value (not established)"},)
+    text = explain(*args, dropped=dropped)
+    assert "no candidate effect cut the selection error" not in text
+    assert "distinguishable from the nominal scene" in text and "quadratic_drag was dropped" in text
+    assert "no candidate effect cut the selection error by more than the null threshold of 5.0 %" in explain(*args)

@@ -17,6 +17,7 @@ import pandas as pd
 
 from voe.gap.check import Checked, check_step, effect_dicts
 from voe.gap.departure import ALPHA
+from voe.gap.drift import drift_step
 from voe.gap.effects import EFFECTS
 from voe.gap.recordings import Episode
 from voe.gap.stages import GapConfig, Location, Problem, Search, locate_step, prepare, search_step
@@ -58,7 +59,9 @@ class GapFinder:
         self.search_: Search = search_step(self.problem_, self.location_, self.config, self.max_effects, self.seed,
                                            self.n_jobs, note)
         note("check")
-        self.checked_: Checked = check_step(self.problem_, self.location_, self.search_, self.config, self.seed)
+        checked = check_step(self.problem_, self.location_, self.search_, self.config, self.seed)
+        note("drift")
+        self.checked_: Checked = drift_step(self.problem_, self.location_, self.search_, checked, self.config, self.seed)
         return self
 
     # --- findings, read from the stage results ----------------------------------------------

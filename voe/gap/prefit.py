@@ -39,6 +39,8 @@ class FlightSamples:
         dacc: (N, 2) recorded minus nominal linear acceleration, m/s^2.
         dalpha: (N,) recorded minus nominal angular acceleration, rad/s^2.
         gyration: (N,) sqrt(I/m) of the row's body (turns angular terms into metres).
+        time: (N,) the sample's time since its episode began, s; episode: (N,) its episode's
+            place in the list (``voe.gap.drift`` asks whether what is missing changes in time).
     """
 
     state: SimState
@@ -46,6 +48,8 @@ class FlightSamples:
     dacc: np.ndarray
     dalpha: np.ndarray
     gyration: np.ndarray
+    time: np.ndarray | None = None
+    episode: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.body)
@@ -56,8 +60,8 @@ def flight_samples(scene: SceneSpec, episodes: list[Episode], half: int = HALF,
     """Collect free-flight samples whose whole fitting span is in flight; None if too few."""
     jointed = scene.jointed()
     g = np.asarray(scene.gravity, dtype=float)
-    rows: dict[str, list] = {k: [] for k in ("pos", "vel", "ang", "om", "acc", "alpha", "body")}
-    for ep in episodes:
+    rows: dict[str, list] = {k: [] for k in ("pos", "vel", "ang", "om", "acc", "alpha", "body", "t", "ep")}
+    for i_ep, ep in enumerate(episodes):
         t_len = len(ep.t)
         if t_len < 2 * half + 1:
             continue
@@ -81,6 +85,8 @@ def flight_samples(scene: SceneSpec, episodes: list[Episode], half: int = HALF,
             rows["acc"].append(acc[k, b, :2] - g)
             rows["alpha"].append(acc[k, b, 2])
             rows["body"].append(np.full(len(k), b))
+            rows["t"].append(ep.t[k] - ep.t[0])
+            rows["ep"].append(np.full(len(k), i_ep))
     if not rows["body"] or sum(len(b) for b in rows["body"]) < MIN_SAMPLES:
         return None
     cat = {k: np.concatenate(v) for k, v in rows.items()}
@@ -94,7 +100,7 @@ def flight_samples(scene: SceneSpec, episodes: list[Episode], half: int = HALF,
     gyr = np.array([b.gyration_radius for b in scene.bodies])[body]
     no_contact = np.zeros(len(body), dtype=bool)
     state = SimState(cat["pos"], cat["vel"], cat["ang"], cat["om"], mass, moment, g, lambda: no_contact)
-    return FlightSamples(state, body, cat["acc"], cat["alpha"], gyr)
+    return FlightSamples(state, body, cat["acc"], cat["alpha"], gyr, cat["t"], cat["ep"])
 
 
 def _missing(effect: Effect, params: np.ndarray, s: FlightSamples, scene: SceneSpec) -> tuple[np.ndarray, np.ndarray]:

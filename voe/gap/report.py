@@ -61,7 +61,7 @@ def figures(finder, out: Path) -> list[str]:
     shown = _moving(ep, p.sigma) or [(0, 0)]
     nom = _windows(finder, ep_i, None, None)
     fitted = _windows(finder, ep_i, finder.effect_, params) if finder.effect_ is not None else []
-    fig, axes = plt.subplots(2, len(shown), figsize=(4 * len(shown), 5.5), squeeze=False)
+    fig, axes = plt.subplots(2, len(shown), figsize=(4 * len(shown), 5.5), squeeze=False, layout="constrained")
     for c, (b, v) in enumerate(shown):
         ax, axr = axes[0, c], axes[1, c]
         ax.plot(ep.t, ep.pose[:, b, v], "k.", ms=2, label="recorded")

@@ -174,6 +174,24 @@ def context_match(effect_contexts: tuple[str, ...], located: set[str]) -> bool:
     return any(c in words for c in effect_contexts)
 
 
+TIE_ALPHA = 0.05  # a group member is ruled out only if it loses on significantly more differing windows
+
+
+def sign_p(d: np.ndarray) -> float:
+    """One-sided sign-test p-value that ``d`` (per-window log SSE of a member minus the best's)
+    is positive more often than by chance; exact ties count half.
+
+    Why: a tie between effects is broken on the few windows where their predictions differ. On
+    two or three such windows even a perfect record is no evidence (p >= 0.125), so the loser
+    must stay in the reported group instead of being silently ruled out.
+    """
+    from scipy.stats import binomtest
+
+    n = len(d)
+    wins = float(np.sum(d > 0) + 0.5 * np.sum(d == 0))
+    return float(binomtest(int(np.floor(wins)), n, 0.5, alternative="greater").pvalue) if n else 1.0
+
+
 def tie_break(fitter: FoldedFitter, group: list[str], results: dict[str, FitResult], candidates: dict[str, Effect],
               contexts: set[str], gains: dict[str, float], noise: float) -> tuple[str, tuple[str, ...], str]:
     """Winner of a group whose selection errors are within ``GROUP_TOL``.
@@ -192,12 +210,17 @@ def tie_break(fitter: FoldedFitter, group: list[str], results: dict[str, FitResu
             d = np.array([np.sqrt(np.mean((ra - rb) ** 2)) for ra, rb in zip(res[a], res[b], strict=True)])
             differ |= d > 2 * noise
     if differ.sum() >= 2:
-        score = {k: float(np.mean([np.log(max(float(np.sum(r**2)), 1e-300)) for r, m in zip(res[k], differ, strict=True)
-                                   if m])) for k in group}
+        logs = {k: np.array([np.log(max(float(np.sum(r**2)), 1e-300)) for r, m in zip(res[k], differ, strict=True)
+                             if m]) for k in group}  # (n_differ,) per member
+        score = {k: float(v.mean()) for k, v in logs.items()}
         best = min(group, key=lambda k: score[k])
-        kept = tuple(sorted((k for k in group if score[k] - score[best] <= 2 * np.log1p(GROUP_TOL)),
-                            key=lambda k: score[k]))
-        return best, kept, f"chosen on the {int(differ.sum())} selection windows where the group's predictions differ"
+        close = {k for k in group if score[k] - score[best] <= 2 * np.log1p(GROUP_TOL)}
+        unproven = {k for k in group if k not in close and sign_p(logs[k] - logs[best]) > TIE_ALPHA}
+        kept = tuple(sorted(close | unproven, key=lambda k: score[k]))
+        basis = f"chosen on the {int(differ.sum())} selection windows where the group's predictions differ"
+        if unproven:
+            basis += (f"; too few to rule out {', '.join(sorted(unproven))} (one-sided sign test p > {TIE_ALPHA:g})")
+        return best, kept, basis
     ranked = sorted(group, key=lambda k: (0 if context_match(candidates[k].contexts, contexts) else 1, -gains[k]))
     return ranked[0], tuple(ranked), "predictions differ in no selection window; named by the located context"
 

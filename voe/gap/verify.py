@@ -7,6 +7,7 @@ residual still exceeds the located threshold, say whether what is left looks lik
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 
 import numpy as np
@@ -94,8 +95,10 @@ def explain(verdict: str, effects: list[dict], groups: list[list[str]], located:
                  f"{_where(located, z_strong)}, but across all windows the recordings depart no more than the "
                  f"replicate does (paired signed-rank p = {departure_p if departure_p is not None else float('nan'):.2g}),"
                  f" as isolated chaotic windows do")
-        text = (f"The recordings are consistent with the nominal simulation: {where}, and no candidate effect cut the "
-                f"selection error by more than the null threshold of {100 * threshold:.1f} % (noise floor about "
+        cut = ("no candidate effect that cut the selection error by more than the null threshold of "
+               f"{100 * threshold:.1f} % has a strength distinguishable from the nominal scene" if dropped else
+               f"no candidate effect cut the selection error by more than the null threshold of {100 * threshold:.1f} %")
+        text = (f"The recordings are consistent with the nominal simulation: {where}, and {cut} (noise floor about "
                 f"{noise_mm:.3g} mm).")
         return text + tail
     if verdict == "unexplained":
@@ -122,8 +125,12 @@ def explain(verdict: str, effects: list[dict], groups: list[list[str]], located:
         text += f" The mismatch was located in {len(located)} stretch(es), context: {', '.join(ctxs)}."
     for g, basis in zip(groups, bases or [""] * len(groups), strict=True):
         if len(g) > 1 and basis.startswith("chosen on"):
+            few = "; too few to rule out" in basis
+            n_differ = re.search(r"on the (\d+) selection", basis)
             text += (f" {' and '.join(g)} fit the selection windows within 10 % of each other; {g[0]} fits best on "
-                     f"the windows where their predictions differ.")
+                     f"the windows where their predictions differ" +
+                     (f", but there are {n_differ.group(1) if n_differ else 'few'} of them, too few to rule out {' and '.join(g[1:])}."
+                      if few else "."))
         elif len(g) > 1:
             text += f" The data cannot tell apart {' and '.join(g)} (selection errors within 10 %); {g[0]} is named first."
     text += (" The remaining residuals look like noise." if ver.looks_like_noise else

@@ -16,7 +16,9 @@ a rerun rebuilds exactly the same batches.
 from __future__ import annotations
 
 import contextlib
+import functools
 import hashlib
+import inspect
 import io
 import json
 import os
@@ -43,13 +45,48 @@ def cache_key(fields: dict[str, Any]) -> str:
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
+@functools.cache
+def _package_sha256() -> str:
+    """sha256 over every ``.py`` file of the installed ``voe`` package (path and bytes, sorted)."""
+    root = Path(__file__).resolve().parents[1]
+    h = hashlib.sha256()
+    for f in sorted(root.rglob("*.py")):
+        h.update(f.relative_to(root).as_posix().encode() + b"\0" + f.read_bytes() + b"\0")
+    return h.hexdigest()
+
+
+def code_sha256(model: Any) -> str:
+    """A fingerprint of the code that computes ``model``'s surprise.
+
+    Why: the version string does not change while a developer (or a user with an editable
+    install) edits a scorer, so a resumed run would otherwise mix surprise computed by old and
+    new code. The key covers the whole ``voe`` package (built-in models share heads and frame
+    costs across files) and, for a model defined outside it, the source file of its class.
+
+    Args:
+        model: the scorer being run.
+
+    Returns:
+        64 hex characters.
+    """
+    h = hashlib.sha256(_package_sha256().encode())
+    try:
+        src = inspect.getsourcefile(type(model))
+    except TypeError:  # a builtin or C-extension class has no source file
+        src = None
+    if src and Path(src).is_file():
+        h.update(Path(src).read_bytes())
+    return h.hexdigest()
+
+
 class ScoreCache:
     """Per-batch surprise files under ``root/<cache_key(fields)>``.
 
     Args:
         root: the cache root (``default_root()`` or ``--cache``).
         fields: model ref and args, checkpoint sha256, probe-set manifest sha256, batch size,
-            seed, surprise kind, device and precision: whatever could change a number.
+            seed, surprise kind, device, precision and the code fingerprint (``code_sha256``):
+            whatever could change a number.
     """
 
     def __init__(self, root: Path, fields: dict[str, Any]) -> None:

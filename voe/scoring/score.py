@@ -24,7 +24,7 @@ from voe.errors import ModelContractError, RunError, VoeError
 from voe.io.paths import portable_ref
 from voe.io.probeset import ProbeSet, load_probe_set
 from voe.io.provenance import sha256_path
-from voe.scoring.cache import ScoreCache
+from voe.scoring.cache import ScoreCache, code_sha256
 from voe.scoring.device import place, precision
 from voe.scoring.distributed import SINGLE, Ranks, rank_device
 from voe.scoring.order import CRN_RULE, Blinder, Schedule, plan
@@ -141,7 +141,7 @@ def score_probe_set(model: Any, probes: ProbeSet | str | Path, out: Path, *, mod
     fields = {"model": ref, "class": f"{type(model).__module__}:{type(model).__qualname__}",
               "voe_version": __version__, "args": dict(model_args or {}), "name": name, "checkpoint_sha256": ck_sha,
               "manifest_sha256": ps.manifest_sha256, "batch_size": batch_size, "seed": seed,
-              "surprise_kind": kind, "device": device, "bf16": bf16}
+              "surprise_kind": kind, "device": device, "bf16": bf16, "code_sha256": code_sha256(model)}
     if cache_root is None and ranks.world > 1:  # also for shards: the cache is the hand-over
         raise VoeError("sharded scoring needs a cache directory shared by every rank (--cache DIR)")
     cache = ScoreCache(cache_root, fields) if cache_root is not None else None

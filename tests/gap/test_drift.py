@@ -1,0 +1,85 @@
+"""The drift (Chow) test: a constant effect fitted to physics that changes in time is caught."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from voe.gap.drift import drifts, flight_drift, split_estimates
+from voe.gap.effects import EFFECTS
+from voe.gap.prefit import flight_samples
+from voe.gap.shooting import Shooter, make_windows, noise_model
+from voe.gap.stages import context_for
+from voe.gap.synth import simulate_episode
+from voe.gap.truths import Gust
+from voe.gap.uncertainty import window_terms
+
+from .conftest import flight_scene
+
+
+def _episodes(gust: bool, n: int = 6, seed: int = 3):
+    rng = np.random.default_rng(seed)
+    scene, t = flight_scene(), np.arange(301) / 100
+    sigma = np.array([[1e-3, 1e-3, 1e-2]])
+    ca = EFFECTS.get("constant_acceleration")()
+    eps = []
+    for k in range(n):
+        pose0 = np.array([[rng.uniform(-1, 1), rng.uniform(0, 1), 0.0]])
+        vel0 = np.array([[rng.uniform(1, 2), rng.uniform(8, 10), 0.0]])
+        eff, p = (Gust(), np.array([1.0, 1.2, 0.3])) if gust else (ca, np.array([0.5, 0.0]))
+        eps.append(simulate_episode(scene, k, t, pose0, vel0, eff, p, sigma, rng))
+    return scene, eps
+
+
+def _pooled_fit(sh, sigma, wins, eff, ctx) -> np.ndarray:
+    """Two Gauss-Newton steps on all windows from zero (the model is linear in a constant acceleration)."""
+    p = np.zeros(2)
+    for _ in range(2):
+        hs, gs, _ = window_terms(sh, sigma, wins, eff, p, ctx)
+        p = p - np.linalg.solve(hs.sum(axis=0), gs.sum(axis=0))
+    return p
+
+
+def test_a_constant_fitted_to_a_gust_drifts_and_a_true_constant_does_not():
+    eff = EFFECTS.get("constant_acceleration")()
+    for gust in (True, False):
+        scene, eps = _episodes(gust)
+        sigma = noise_model(eps)[0]
+        sh = Shooter(scene, eps, 1e-3, 8)
+        ctx = context_for(scene, eps)
+        wins = make_windows(eps, list(range(len(eps))), 0.5, stride=0.25)
+        p = _pooled_fit(sh, sigma, wins, eff, ctx)
+        found = drifts(sh, sigma, wins, eff, p, ctx)
+        if gust:  # the gust's mean differs between early and late windows
+            assert len(found) == 1 and found[0].split.startswith("time") and found[0].z > 5
+            assert abs(found[0].early - found[0].late) > 0.04 and "changes in time" in found[0].reason()
+        else:
+            assert abs(p[0] - 0.5) < 0.02 and found == []
+
+
+def test_split_estimates_worked_example():
+    # three windows per side, curvature 1 each; gradients -1, -3, -2 on one side, +1 on the other:
+    # one Gauss-Newton step each gives 0 + 6 / 3 = 2 and 0 - 3 / 3 = -1; the spread of the
+    # difference is at least the steps' own sqrt(1/3 + 1/3) = 0.816
+    hs = np.ones((6, 1, 1))
+    gs = np.array([[-1.0], [-3.0], [-2.0], [1.0], [1.0], [1.0]])
+    side = np.array([True, True, True, False, False, False])
+    a, b, sd = split_estimates(hs, gs, np.zeros(1), side, slice(0, 1), np.random.default_rng(0))
+    np.testing.assert_allclose([a[0], b[0]], [2.0, -1.0], atol=1e-9)
+    assert sd[0] >= np.sqrt(2 / 3) - 1e-9 and sd[0] < 1.5
+    assert split_estimates(hs, gs, np.zeros(1), side, slice(0, 1), np.random.default_rng(0),
+                           scale=np.array([0.1])) is None  # curvature 3 x 0.1^2 per scale step: blind
+    assert split_estimates(hs[:5], gs[:5], np.zeros(1), side[:5], slice(0, 1),
+                           np.random.default_rng(0)) is None  # two windows are no estimate
+
+
+def test_flight_residual_of_a_constant_fitted_to_a_gust_changes_in_time():
+    eff = EFFECTS.get("constant_acceleration")()
+    for gust in (True, False):
+        scene, eps = _episodes(gust)
+        samples = flight_samples(scene, eps)
+        mean = samples.dacc.mean(axis=0)  # (2,) the best constant in flight
+        found = flight_drift(samples, eff, mean, scene, context_for(scene, eps))
+        if gust:
+            assert found is not None and found.flight and found.param == "x" and "changes in time" in found.reason()
+        else:
+            assert abs(mean[0] - 0.5) < 0.05 and found is None
