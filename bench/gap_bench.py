@@ -41,7 +41,8 @@ def main() -> None:
                         clean_kinds=tuple(a.clean_kinds.split(",")), progress=lambda r: print(
         f"  case {r['seed']}: true {r['truth']:<26} {r['noise_kind']:<8} named {','.join(r['names']) or '-':<26} "
         f"{r['verdict']:<11} rmse {r['before']:.4g} -> {r['after']:.4g} param_err {r['param_error']:.3f} "
-        f"covered {r['covered']}" + (f" dropped {','.join(r['dropped'])}" if r.get("dropped") else ""), flush=True))
+        f"covered {r['covered']}" + (f" dropped {','.join(r['dropped'])}" if r.get("dropped") else "")
+        + (f" expressed {r['expressed'][0]}/{r['expressed'][1]}" if r.get("expressed") else ""), flush=True))
     for line in summary_lines(results, a.noise):
         print(line)
     print(f"wall time {time.perf_counter() - t0:.0f} s for {len(results)} cases (--jobs {a.jobs}, "

@@ -59,6 +59,7 @@ def summary_lines(results: list[dict], noise: float) -> list[str]:
     lo, hi = clopper_pearson(correct, len(cycle))
     lines.append(f"single-effect identification (cycle, none included): {_pct(correct, len(cycle))} "
                  f"(95 % CI {100 * lo:.0f}-{100 * hi:.0f} %; target >= 95 %, CI lower bound >= 90 %)")
+    lines += expression_lines(cycle)
     comp = [r for r in results if r["kind"] == "compound"]
     if comp:
         both = sum(set(r["truth"].split("+")) <= set(r["names"]) for r in comp)
@@ -87,3 +88,16 @@ def summary_lines(results: list[dict], noise: float) -> list[str]:
     if errors:
         lines.append(f"errors: {len(errors)} ({errors[0]['found']})")
     return lines
+
+
+def expression_lines(cycle: list[dict]) -> list[str]:
+    """Identification of the single truths split by how many selection windows express them
+    (``voe.gap.bench.expression``): a diagnostic beside the headline figure, not a replacement."""
+    rows = [r for r in cycle if r["truth"] != "none" and r.get("expressed")]
+    if not rows:
+        return []
+    strong = [r for r in rows if r["expressed"][0] >= 3]
+    weak = [r for r in rows if r["expressed"][0] < 3]
+    ok = lambda rs: sum(r["found"] == r["truth"] for r in rs)  # noqa: E731
+    return [f"  by expression (truth moves a selection window's prediction by > 3 noise sigmas): in 3 or more "
+            f"windows {_pct(ok(strong), len(strong))}; in fewer {_pct(ok(weak), len(weak))}"]
