@@ -220,13 +220,13 @@ def test_centred_bootstrap_varies_about_the_fit():
     terms = (hs, gs, np.arange(30) // 5)
     lo, hi, _ = uncertainty.quantiles(terms, eff, np.array([0.4]), ctx)
     assert lo[0] <= 0.4 <= hi[0] and hi[0] - lo[0] < 0.01
-    old = uncertainty.CENTRE
+    old = uncertainty.CENTRE, uncertainty.STRATIFY
     try:
-        uncertainty.CENTRE = False
+        uncertainty.CENTRE = uncertainty.STRATIFY = False  # unstratified: no Wald floor about the fit
         lo, hi, _ = uncertainty.quantiles(terms, eff, np.array([0.4]), ctx)
         assert not lo[0] <= 0.4 <= hi[0]  # every resample steps the same way, off the fit
     finally:
-        uncertainty.CENTRE = old
+        uncertainty.CENTRE, uncertainty.STRATIFY = old
 
 
 def test_a_region_holding_every_contact_is_the_whole_floor():
@@ -273,6 +273,13 @@ def test_sparse_bootstrap_draws_from_the_informative_windows():
         lo, hi, _ = uncertainty.quantiles(terms, eff, np.array([0.4]), ctx)
         lo_b, hi_b = eff.bounds(ctx)
         assert lo[0] == lo_b[0] or hi[0] == hi_b[0]  # a resample without a collision runs to a bound
+        lo_b, hi_b = eff.bounds(ctx)
+        one = (hs.copy(), gs.copy(), terms[2])
+        one[0][[11, 20]] = 0.0  # a single informative window says nothing about its own spread
+        uncertainty.STRATIFY = True
+        lo, hi, blind = uncertainty.quantiles(one, eff, np.array([0.4]), ctx)
+        half = 1.96 / np.sqrt(1e4 + 1e-9 / eff.scale(ctx)[0] ** 2)  # the Wald floor of one window's curvature
+        assert not blind[0] and lo[0] == pytest.approx(0.4 - half) and hi[0] == pytest.approx(0.4 + half)
     finally:
         uncertainty.STRATIFY = old
 
@@ -320,3 +327,37 @@ def test_consistent_text_does_not_deny_a_gain_that_was_dropped_as_not_establishe
     assert "no candidate effect cut the selection error" not in text
     assert "distinguishable from the nominal scene" in text and "quadratic_drag was dropped" in text
     assert "no candidate effect cut the selection error by more than the null threshold of 5.0 %" in explain(*args)
+
+
+def test_a_dropped_winner_is_replaced_by_the_next_member_of_its_group():
+    # development case 6263021: spring_anchor won a round with point_attractor within 10 %, was
+    # dropped as not established, and the right effect was never tried again
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from voe.gap.check import _alternative
+    from voe.gap.effects import EFFECTS
+    from voe.gap.fit import FitResult
+    from voe.gap.search import Round
+
+    calls = []
+
+    def refit(eff, starts, nfev):
+        calls.append((eff, starts))
+        return FitResult(eff, starts[0], 0.0, 0.0, np.zeros(3), tuple(starts))
+
+    drag, spring, attractor = (EFFECTS.get(n)() for n in ("linear_drag", "spring_anchor", "point_attractor"))
+    results = {"spring_anchor": FitResult(drag + spring, np.array([0.1, 0.09, 0.9, 3.5]), 0, 0),
+               "point_attractor": FitResult(drag + attractor, np.array([0.1, 1.4, 1.0, 1.9]), 0, 0)}
+    rnd = Round(0.01, results, {"spring_anchor": 0.50, "point_attractor": 0.48}, {}, 0.05, "spring_anchor",
+                ("spring_anchor", "point_attractor"))
+    s = SimpleNamespace(fitter=SimpleNamespace(refit=refit, config=SimpleNamespace(refine_nfev=10)))
+    rest = EFFECTS.get("linear_drag")()
+    model, key = _alternative(s, rnd, {"spring_anchor", "linear_drag"}, rest, (np.array([0.12]),))
+    assert key == "point_attractor" and [e.name for e in model.effect.parts] == ["linear_drag", "point_attractor"]
+    np.testing.assert_array_equal(calls[0][1][0], [0.12, 1.4, 1.0, 1.9])  # the rest's params, then the member's own
+    alone, _ = _alternative(s, rnd, {"spring_anchor"}, None, (np.zeros(0),))
+    np.testing.assert_array_equal(alone.params, [1.4, 1.0, 1.9])
+    assert _alternative(s, rnd, {"spring_anchor", "point_attractor"}, None, (np.zeros(0),)) is None
+    assert _alternative(s, None, set(), None, (np.zeros(0),)) is None

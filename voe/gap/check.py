@@ -16,10 +16,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from voe.gap.effects.base import EffectSum
+from voe.gap.effects.base import Effect, EffectSum
 from voe.gap.fit import FitResult
 from voe.gap.folds import as_sum, without
-from voe.gap.search import window_gain
+from voe.gap.search import Round, window_gain
 from voe.gap.stages import GapConfig, Location, Problem, Search, context_for, fit_windows
 from voe.gap.uncertainty import established, intervals
 from voe.gap.verify import Verification, verify
@@ -47,7 +47,9 @@ def check_step(p: Problem, loc: Location, s: Search, config: GapConfig, seed: in
     fit_ids = p.split.fit
     ctx = context_for(p.scene, [p.episodes[i] for i in fit_ids])
     lo = hi = np.zeros(0)
-    for _ in range(2 * len(keys) + 1):
+    rounds = {r.winner: r for r in s.result.rounds if r.winner}
+    tried = set(keys)
+    for _ in range(2 * (len(keys) + sum(len(r.group) for r in rounds.values())) + 1):
         if model is None:
             break
         if len(keys) > 1:  # earn its place: refit without each part
@@ -69,16 +71,56 @@ def check_step(p: Problem, loc: Location, s: Search, config: GapConfig, seed: in
             break
         k = ok.index(False)
         i = model.effect.split(np.arange(model.params.size))[k].astype(int)  # part k's parameter indices
-        dropped.append({"effect": keys[k], "reason": "its 95 % interval contains the nominal value (not established)",
-                        "params": model.params[i].tolist(), "interval95": np.c_[lo[i], hi[i]].tolist()})
+        drop = {"effect": keys[k], "reason": "its 95 % interval contains the nominal value (not established)",
+                "params": model.params[i].tolist(), "interval95": np.c_[lo[i], hi[i]].tolist()}
         eff, starts = without(model, k)
-        model = None if eff is None else as_sum(s.fitter.refit(eff, starts, s.fitter.config.refine_nfev))
+        alt = _alternative(s, rounds.get(keys[k]), tried, eff, starts)
+        thr_k = thresholds[k]
         keys, thresholds = keys[:k] + keys[k + 1:], thresholds[:k] + thresholds[k + 1:]
+        if alt is not None:  # the group's next member takes the dropped winner's place
+            model, key = alt
+            tried.add(key)
+            keys, thresholds = keys + [key], thresholds + [thr_k]
+            drop["reason"] += f"; {key}, next in its group, was tried in its place"
+        else:
+            model = None if eff is None else as_sum(s.fitter.refit(eff, starts, s.fitter.config.refine_nfev))
+        dropped.append(drop)
     if model is None:
         lo = hi = np.zeros(0)
     ver, note = _test(p, model, config, loc.z_threshold)
     nominal = model.effect.nominal(ctx) if model is not None else np.zeros(0)
     return Checked(model, tuple(keys), lo, hi, tuple(dropped), ver, note, nominal)
+
+
+def _alternative(s: Search, rnd: Round | None, tried: set[str], rest: Effect | None,
+                 starts: tuple[np.ndarray, ...]) -> tuple[FitResult, str] | None:
+    """The best untried member of the round ``rnd`` that accepted a part now dropped as not
+    established, fitted on top of the remaining parts ``rest`` (each fold from ``starts`` and the
+    member's own fitted parameters of that round), with its key; None if there is none.
+
+    Why: a group holds the candidates that explained the same gain within 10 % (each beat the
+    round's threshold with a positive bootstrap lower bound). If the named one turns out not to
+    be established, the gain is still there, and the next member is the next explanation of it:
+    on development case 6263021 (a point attractor) ``spring_anchor`` won the round (selection
+    gain 50.4 %, ``point_attractor`` 48.2 %), its anchor ran to a bound and its stiffness
+    interval held zero, it was dropped, and the case ended ``unexplained`` with the right
+    effect never tried again.
+    """
+    if rnd is None:
+        return None
+    for key in rnd.group:
+        if key in tried or key not in rnd.results:
+            continue
+        res = rnd.results[key]
+        part = res.effect.parts[-1]
+        own = [EffectSum(res.effect.parts).split(fp)[-1] for fp in res.fold_params]  # the member's params per fold
+        if rest is None:
+            eff, fold_starts = EffectSum((part,)), tuple(own)
+        else:
+            eff = EffectSum(tuple(rest.parts) + (part,))
+            fold_starts = tuple(np.concatenate([a, b]) for a, b in zip(starts, own, strict=True))
+        return as_sum(s.fitter.refit(eff, fold_starts, s.fitter.config.refine_nfev)), key
+    return None
 
 
 def _test(p: Problem, model: FitResult | None, config: GapConfig, z_thr: float) -> tuple[Verification, str]:
