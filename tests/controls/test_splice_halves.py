@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from voe.controls.splice_halves import ab_from_a, halves
+from voe.scoring.halves import ab_from_a, halves
 
 T = 12
 

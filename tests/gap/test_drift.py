@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from voe.gap.drift import drifts, flight_drift, split_estimates
+from voe.gap.drift import drifts, flight_drift, flight_movers, split_estimates
 from voe.gap.effects import EFFECTS
 from voe.gap.prefit import flight_samples
 from voe.gap.shooting import Shooter, make_windows, noise_model
@@ -83,3 +83,14 @@ def test_flight_residual_of_a_constant_fitted_to_a_gust_changes_in_time():
             assert found is not None and found.flight and found.param == "x" and "changes in time" in found.reason()
         else:
             assert abs(mean[0] - 0.5) < 0.05 and found is None
+
+
+def test_only_parts_that_push_in_flight_answer_for_a_flight_residual():
+    from voe.gap.effects.base import EffectSum
+
+    scene, eps = _episodes(False, n=2)
+    ctx = context_for(scene, eps)
+    names = ("rolling_resistance", "angular_damping", "constant_acceleration", "linear_drag")
+    eff = EffectSum(tuple(EFFECTS.get(n)() for n in names))
+    params = np.array([0.05, 0.001, 0.5, 0.0, 0.1])
+    assert flight_movers(flight_samples(scene, eps), eff, params, scene, ctx) == [2, 3]

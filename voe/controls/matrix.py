@@ -25,8 +25,8 @@ from voe.controls.spec import Control
 from voe.scoring.metrics import accuracy
 from voe.scoring.runs import Run
 from voe.scoring.stats import bootstrap_ci, holm, permutation_pvalue
-from voe.scoring.table import set_table
-from voe.scoring.verdict import LEARNED, NOT_LEARNED, set_conditions, verdict
+from voe.scoring.table import halves_cells, halves_verdict, holm_nan, set_table
+from voe.scoring.verdict import LEARNED, NOT_LEARNED, set_conditions, verdict, with_halves
 
 #: Claims of *no* knowledge hold on every part of a concept: a verdict-carrying condition
 #: inherits them from the concept unless it declares its own.
@@ -97,6 +97,7 @@ def _cells(ctrl: Control, run: Run, n_boot: int, balance: pd.DataFrame | None) -
                      "condition": cond_ or "all", "carries_verdict": carries_,
                      "n_sets": len(acc), "accuracy": accuracy(acc), "ci_low": lo, "ci_high": hi,
                      "p_value": permutation_pvalue(acc), "p_two_sided": two_sided_pvalue(acc),
+                     "_halves": halves_cells(g, n_boot, 0),
                      "expected": expected,
                      "could_fail": _could_fail(ctrl, expected, g["set_id"].to_numpy(), concept in constant,
                                                balance)})
@@ -119,9 +120,14 @@ def specificity_matrix(controls: Sequence[Control], runs: Sequence[Run], n_boot:
         for part in ([r for r in cells if r["condition"] == "all"], [r for r in cells if r["condition"] != "all"]):
             if not part:
                 continue
-            for r, p in zip(part, holm(np.array([r["p_value"] for r in part])), strict=True):
+            adj_h = holm_nan(np.array([r["_halves"]["halves_p"] if r["_halves"] else np.nan for r in part]))
+            for r, p, ph in zip(part, holm(np.array([r["p_value"] for r in part])), adj_h, strict=True):
                 r["p_holm"] = float(p)
-                r["verdict"], r["note"] = verdict(r["accuracy"], r["ci_low"], r["ci_high"], r["p_holm"])
+                h = r.pop("_halves")
+                r["halves"] = h["halves"] if h else float("nan")
+                # a control faces the rule a model faces, the halves included (voe.scoring.verdict)
+                r["verdict"], r["note"] = with_halves(verdict(r["accuracy"], r["ci_low"], r["ci_high"], r["p_holm"]),
+                                                      halves_verdict(h, float(ph)))
                 r["as_declared"] = outcome_ok(r["expected"], r["verdict"], r["ci_low"], r["ci_high"])
         rows += cells
     return pd.DataFrame(rows)

@@ -15,45 +15,16 @@ unchangeableness) and on none of gravity, solidity and collision, random ``inter
 networks on 0-20 % (one 70 %), and the demo's pixel model on none, although its *sum* is right on
 all collision sets (README, "Models").
 
-This is a diagnostic read from a run and its probe set, not a verdict rule: the verdict is the
-scoring rule's (``voe.scoring``). Frames are matched on the stored states (equal where present,
-absent alike), so it needs no knowledge of how a concept splices; where both possible clips show
-the same frame the splice's side is carried over from the frame before (splices are contiguous
-runs), and BA's side is always the complement of AB's, so every frame of A and B is used once.
+The halves themselves live in ``voe.scoring.halves`` (how frames are matched to their side is
+described there), where the verdict also uses them; this module lays them out per set for
+``bench/splice_halves.py``.
 """
 
 from __future__ import annotations
 
-import numpy as np
 import pandas as pd
 
-
-def _same(x: np.ndarray, px: np.ndarray, y: np.ndarray, py: np.ndarray) -> np.ndarray:
-    """Per frame ``(T,)``: the two clips show the same objects in the same states."""
-    both = px & py  # (T, K)
-    eq = np.where(both[..., None], np.isclose(np.nan_to_num(x), np.nan_to_num(y), atol=1e-6), True)
-    return (px == py).all(1) & eq.all((1, 2))
-
-
-def ab_from_a(states: dict[str, np.ndarray], present: dict[str, np.ndarray]) -> np.ndarray:
-    """``(T,)`` True where AB shows A's frame (BA then shows B's), False where it shows B's."""
-    sa = _same(states["AB"], present["AB"], states["A"], present["A"])
-    sb = _same(states["AB"], present["AB"], states["B"], present["B"])
-    out = np.empty(len(sa), dtype=bool)
-    side = True  # a clip starts as its first letter says
-    for t, (a, b) in enumerate(zip(sa, sb, strict=True)):
-        if a != b:
-            side = bool(a)
-        out[t] = side
-    return out
-
-
-def halves(nll: dict[str, np.ndarray], from_a: np.ndarray) -> tuple[float, float]:
-    """``(d_AB, d_BA)`` from per-frame surprise ``(T,)`` of A, B, AB, BA (NaN frames unscored)."""
-    n = {k: np.nan_to_num(v) for k, v in nll.items()}
-    d_ab = float(np.sum(n["AB"] - np.where(from_a, n["A"], n["B"])))
-    d_ba = float(np.sum(n["BA"] - np.where(from_a, n["B"], n["A"])))
-    return d_ab, d_ba
+from voe.scoring.halves import ab_from_a, halves
 
 
 def set_halves(frames: pd.DataFrame, clips: pd.DataFrame, probes, atol: float = 0.01) -> pd.DataFrame:

@@ -24,10 +24,11 @@ from voe.report.filmstrip import save_figure
 from voe.scoring.metrics import TIE_RTOL
 from voe.scoring.runs import Run, load_runs
 from voe.scoring.table import concept_table, condition_table
-from voe.scoring.verdict import CONFOUNDED_RULE, RULE
+from voe.scoring.verdict import CONFOUNDED_RULE, HALVES_RULE, RULE
 
 CSV_COLUMNS = ("model", "concept", "n_sets", "accuracy", "ci_low", "ci_high", "p_value", "verdict",
-               "p_holm", "note", "relative_surprise", "pair_acc_max", "auroc", "raw_verdict", "confounded_by")
+               "p_holm", "note", "relative_surprise", "pair_acc_max", "auroc", "raw_verdict", "confounded_by",
+               "halves", "halves_ci_low", "halves_ci_high", "halves_p_holm")
 
 
 def _slug(text: str) -> str:
@@ -162,7 +163,9 @@ def _blocks(title, runs, summary, conditions, concepts, looking, films, film_not
     ref = runs[0]
     show = summary.copy()
     show["95% CI"] = [f"[{lo:.2f}, {hi:.2f}]" for lo, hi in zip(show["ci_low"], show["ci_high"], strict=True)]
-    show = show[["model", "concept", "n_sets", "accuracy", "95% CI", "p_value", "p_holm", "verdict", "note",
+    show["halves"] = [("-" if np.isnan(h) else f"{h:.2f} [{lo:.2f}, {hi:.2f}]") for h, lo, hi in
+                      zip(show["halves"], show["halves_ci_low"], show["halves_ci_high"], strict=True)]
+    show = show[["model", "concept", "n_sets", "accuracy", "95% CI", "halves", "p_value", "p_holm", "verdict", "note",
                  "confounded_by", "pair_acc_max", "relative_surprise", "auroc"]]
     pooled = conditions[conditions["concept"] == "all"].copy()
     pooled["95% CI"] = [f"[{lo:.2f}, {hi:.2f}]" for lo, hi in zip(pooled["ci_low"], pooled["ci_high"], strict=True)]
@@ -211,9 +214,12 @@ def _blocks(title, runs, summary, conditions, concepts, looking, films, film_not
             "**auroc**: probability that an impossible clip's total surprise exceeds a possible clip's, "
             "over all clips of the concept regardless of set (ties 0.5); unlike accuracy it is hurt by "
             "clips that are simply harder to predict.",
-            "**note**: *chance* when the CI contains 0.5, *reversed* when it lies entirely below 0.5.",
+            "**halves**: on spliced quadruplets, the share of violations (each impossible clip against the "
+            "possible clip showing the same frames) that surprise the model, with its 95% CI; - for pairs.",
+            "**note**: *chance* when the CI contains 0.5, *reversed* when it lies entirely below 0.5, "
+            "*one-sided* when the sum is right but the halves are not (see the rule below).",
         )),
-        R.Para("Verdict rule: " + RULE + " " + CONFOUNDED_RULE),
+        R.Para("Verdict rule: " + RULE + " " + HALVES_RULE + " " + CONFOUNDED_RULE),
         R.Heading("Looking time: surprise around the onset"),
         R.Para("One figure per model, one column per concept; the x axis is the frame relative to the "
                "violation onset (dashed line). Top: mean surprise per frame of possible (blue) and "

@@ -11,16 +11,29 @@ from collections.abc import Sequence
 import numpy as np
 import pandas as pd
 
-from voe.scoring.metrics import accuracy, auroc, score_set, tie_atol
+from voe.errors import VoeError
+from voe.scoring.halves import VARIANTS, quadruplet_halves, splice_sides
+from voe.scoring.metrics import TIE_RTOL, accuracy, auroc, score_set, tie_atol
 from voe.scoring.runs import Run
 from voe.scoring.stats import bootstrap_ci, holm, permutation_pvalue
-from voe.scoring.verdict import set_conditions, verdict
+from voe.scoring.verdict import INCONCLUSIVE, set_conditions, verdict, with_halves
 
 SUMMARY_COLUMNS = ("model", "concept", "n_sets", "accuracy", "ci_low", "ci_high", "p_value", "p_holm",
-                   "verdict", "note", "relative_surprise", "pair_acc_max", "auroc")
+                   "verdict", "note", "relative_surprise", "pair_acc_max", "auroc", "halves", "halves_ci_low",
+                   "halves_ci_high", "halves_p_holm")
 SET_KEYS = ("concept", "set_id", "set_kind", "visible_violation", "n_distractors")
 #: Set-level columns carried over when a probe set has them (``voe.scoring.verdict.set_conditions``).
 OPTIONAL_SET_KEYS = ("condition", "carries_verdict", "confounded")
+
+
+def holm_nan(p: np.ndarray) -> np.ndarray:
+    """``holm`` over the finite entries of ``p`` (NaN stays NaN: a concept without quadruplets
+    does not enter the halves' family)."""
+    out = np.full(len(p), np.nan)
+    ok = np.isfinite(p)
+    if ok.any():
+        out[ok] = holm(p[ok])
+    return out
 
 
 def set_table(run: Run) -> pd.DataFrame:
@@ -29,9 +42,16 @@ def set_table(run: Run) -> pd.DataFrame:
     keys_ = [*SET_KEYS, *(k for k in OPTIONAL_SET_KEYS if k in clips.columns)]
     rows = []
     atol = tie_atol(run.surprise_kind)
+    sides = _sides(run) if (clips["set_kind"] == "quadruplet").any() else {}
     for keys, grp in clips.groupby(keys_, sort=True, dropna=False):
         sc = score_set(run.nll[grp.index.to_numpy()], (grp["role"] == "impossible").to_numpy(), atol)
-        rows.append({"model": run.label, **dict(zip(keys_, keys, strict=True)),
+        sid = str(dict(zip(keys_, keys, strict=True))["set_id"])
+        if sid in sides and set(grp["variant"]) == set(VARIANTS):
+            nll = {v: run.nll[i] for v, i in zip(grp["variant"], grp.index, strict=True)}
+            half = quadruplet_halves(nll, sides[sid], atol, TIE_RTOL)
+        else:  # a pair has no halves (NaN), and a quadruplet whose probe set is gone is unchecked
+            half = float("nan")
+        rows.append({"model": run.label, **dict(zip(keys_, keys, strict=True)), "halves": half,
                      "s_imp": sc.s_imp, "s_pos": sc.s_pos, "accuracy": sc.accuracy,
                      "accuracy_max": sc.accuracy_max, "n_frames": sc.n_frames,
                      # a ratio of sums means something only for non-negative calibrated nats
@@ -44,6 +64,44 @@ def set_table(run: Run) -> pd.DataFrame:
         raise RunError(f"{run.path}: set '{out['set_id'][dup].iloc[0]}' has clips with different "
                        "concept/kind/conditions in clips.parquet")
     return out
+
+
+def _sides(run: Run) -> dict:
+    """The run's probe set's splice sides (``voe.scoring.halves.splice_sides``); ``{}`` when the
+    probe set cannot be opened or is not the one scored (its quadruplets then stay unchecked)."""
+    from voe.io.probeset import load_probe_set
+
+    try:
+        ps = load_probe_set(run.probes_path)
+        if ps.manifest_sha256 != run.manifest_sha256:
+            return {}
+        return splice_sides(ps)
+    except (OSError, ValueError, KeyError, VoeError):
+        return {}
+
+
+def halves_cells(sets: pd.DataFrame, n_boot: int, seed: int) -> dict[str, float] | None:
+    """Halves accuracy with CI and p-value over a cell's quadruplets (``None`` if it has none;
+    NaN accuracy if any of them could not be checked)."""
+    q = sets[sets["set_kind"] == "quadruplet"]
+    if q.empty:
+        return None
+    h = q["halves"].to_numpy()
+    if np.isnan(h).any():
+        return {"halves": float("nan"), "halves_ci_low": float("nan"), "halves_ci_high": float("nan"),
+                "halves_p": float("nan")}
+    lo, hi = bootstrap_ci(h, n_boot=n_boot, seed=seed)
+    return {"halves": accuracy(h), "halves_ci_low": lo, "halves_ci_high": hi,
+            "halves_p": permutation_pvalue(h, seed=seed)}
+
+
+def halves_verdict(cell: dict | None, p_holm: float) -> tuple[str, str] | None:
+    """The halves' own verdict for ``with_halves`` (``None`` without quadruplets)."""
+    if cell is None:
+        return None
+    if np.isnan(cell["halves"]):
+        return INCONCLUSIVE, "halves unchecked (probe set not found)"
+    return verdict(cell["halves"], cell["halves_ci_low"], cell["halves_ci_high"], p_holm)
 
 
 def _cell(sets: pd.DataFrame, n_boot: int, seed: int) -> dict[str, float]:
@@ -68,10 +126,17 @@ def concept_table(runs: Sequence[Run], n_boot: int = 10_000, seed: int = 0) -> p
                          "pair_acc_max": accuracy(grp["accuracy_max"].to_numpy()),
                          "auroc": auroc(clips["sum"].to_numpy(), (clips["role"] == "impossible").to_numpy(),
                                         tie_atol(run.surprise_kind))})
+            rows[-1]["_halves"] = halves_cells(grp, n_boot, seed)
         adj = holm(np.array([r["p_value"] for r in rows[start:]]))
-        for r, p in zip(rows[start:], adj, strict=True):
+        hp = [r["_halves"]["halves_p"] if r["_halves"] else np.nan for r in rows[start:]]
+        adj_h = holm_nan(np.array(hp))
+        for r, p, ph in zip(rows[start:], adj, adj_h, strict=True):
             r["p_holm"] = float(p)
-            r["verdict"], r["note"] = verdict(r["accuracy"], r["ci_low"], r["ci_high"], r["p_holm"])
+            h = r.pop("_halves")
+            r.update({k: (h or {}).get(k, float("nan")) for k in ("halves", "halves_ci_low", "halves_ci_high")})
+            r["halves_p_holm"] = float(ph)
+            r["verdict"], r["note"] = with_halves(verdict(r["accuracy"], r["ci_low"], r["ci_high"], r["p_holm"]),
+                                                  halves_verdict(h, float(ph)))
     return pd.DataFrame(rows, columns=list(SUMMARY_COLUMNS))
 
 

@@ -31,6 +31,28 @@ RULE = (
 )
 
 
+HALVES_RULE = (
+    "On spliced quadruplets a concept is **learned** only if the same rule also holds for the "
+    "*halves accuracy*: each impossible clip is compared with the possible clip that shows the "
+    "same frame at each step (1 if more surprising, 0.5 on a tie, 0 if less; a set scores the "
+    "mean of its two halves), because a memory that only grows or fades with the time an object "
+    "was hidden gets one half right and the other wrong, and the sum's sign then says nothing "
+    "about the law (``voe.scoring.halves``). Otherwise the halves' own verdict is given, noted "
+    "*one-sided*."
+)
+
+
+def with_halves(sum_verdict: tuple[str, str], halves_verdict: tuple[str, str] | None) -> tuple[str, str]:
+    """Combine the sum's verdict with the halves' (``None``: the concept has no quadruplets).
+
+    Only a *learned* verdict can change: it stands if the halves are learned too, and is
+    otherwise replaced by the halves' verdict (never learned), noted ``one-sided``.
+    """
+    if halves_verdict is None or sum_verdict[0] != LEARNED or halves_verdict[0] == LEARNED:
+        return sum_verdict
+    return halves_verdict[0], halves_verdict[1] if halves_verdict[1].startswith("halves") else "one-sided"
+
+
 def verdict(accuracy: float, ci_low: float, ci_high: float, p_holm: float) -> tuple[str, str]:
     """Apply ``RULE``; returns ``(verdict, note)`` where note is ``'reversed'``, ``'chance'`` or ``''``."""
     if any(math.isnan(x) for x in (accuracy, ci_low, ci_high)):
