@@ -18,8 +18,10 @@ memory behaviour. Here the contract is written once:
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import multiprocessing as mp
+import signal
 from collections import deque
 from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import Future, ProcessPoolExecutor
@@ -43,6 +45,35 @@ def _note(exc: BaseException, index: int, item: Any, fn: Callable) -> None:
     text = repr(item)
     text = text if len(text) <= 200 else text[:197] + "..."
     exc.add_note(f"(parallel_map: {getattr(fn, '__qualname__', fn)!s} failed on item {index}: {text})")
+
+
+_HELD = {signal.SIGINT, signal.SIGTERM}
+
+
+@contextlib.contextmanager
+def _signals_held():
+    """Hold SIGINT and SIGTERM while a worker may be forked; they are delivered on release.
+
+    Why: a signal that arrives just after a fork runs its handler inside the at-fork callbacks
+    (logging's ``_releaseLock``), where Python prints "Exception ignored" and drops the handler's
+    ``KeyboardInterrupt``: the command then ran on to its end although told to stop (seen in
+    CI). Held here, it is delivered at the ``with``'s end, in ordinary code.
+    """
+    if not hasattr(signal, "pthread_sigmask"):  # not on Windows; there is no fork there either
+        yield
+        return
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, _HELD)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+def _release_signals() -> None:
+    """Worker initializer: a forked worker inherits the held mask; it must answer signals (the
+    pool's shutdown terminates workers with SIGTERM)."""
+    if hasattr(signal, "pthread_sigmask"):
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, _HELD)
 
 
 def parallel_map(fn: Callable[[T], R], items: Iterable[T], jobs: int = 1,
@@ -76,14 +107,15 @@ def parallel_map(fn: Callable[[T], R], items: Iterable[T], jobs: int = 1,
         _FNS[token] = fn  # before the pool exists, so every forked worker has it
     pending: deque[tuple[int, Any, Future]] = deque()
     it = iter(enumerate(items))
-    pool = ProcessPoolExecutor(max_workers=jobs, mp_context=mp.get_context(method))
+    pool = ProcessPoolExecutor(max_workers=jobs, mp_context=mp.get_context(method), initializer=_release_signals)
     try:
         def submit() -> bool:
             nxt = next(it, None)
             if nxt is None:
                 return False
             i, item = nxt
-            fut = pool.submit(_call_forked, token, item) if forked else pool.submit(fn, item)
+            with _signals_held():  # submit may fork a worker
+                fut = pool.submit(_call_forked, token, item) if forked else pool.submit(fn, item)
             pending.append((i, item, fut))
             return True
 

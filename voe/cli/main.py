@@ -67,11 +67,25 @@ def main() -> None:
         typer.echo(f"voe: error: {exc}", err=True)
         sys.exit(exc.exit_code)
     except (KeyboardInterrupt, SystemExit) as exc:  # click turns Ctrl-C into "Aborted!" and exit 1
-        if not _INTERRUPTED or isinstance(exc, SystemExit) and exc.code == 0:
+        if not _INTERRUPTED:
             raise
+        if isinstance(exc, SystemExit) and exc.code in (0, None):
+            _swallowed()
         typer.echo(f"voe: interrupted by {_INTERRUPTED[0]}; nothing incomplete was kept under a final "
                    "name (rerun to resume or start again)", err=True)
         sys.exit(130)
+    if _INTERRUPTED:
+        _swallowed()
+
+
+def _swallowed() -> None:
+    """The signal's exception was raised where Python ignores exceptions (an at-fork or finalizer
+    callback: "Exception ignored in ... _releaseLock" right after a worker was forked), so the
+    command ran on to its end. Its outputs are complete, but the caller asked it to stop: say so
+    and exit non-zero, as a stopped command does."""
+    typer.echo(f"voe: {_INTERRUPTED[0]} arrived where it could not stop the command, which ran to its end; "
+               "its outputs are complete", err=True)
+    sys.exit(130)
 
 
 _INTERRUPTED: list[str] = []

@@ -46,13 +46,11 @@ def cache_key(fields: dict[str, Any]) -> str:
 
 
 @functools.cache
-def _package_sha256() -> str:
-    """sha256 over every ``.py`` file of the installed ``voe`` package (path and bytes, sorted)."""
-    root = Path(__file__).resolve().parents[1]
-    h = hashlib.sha256()
-    for f in sorted(root.rglob("*.py")):
-        h.update(f.relative_to(root).as_posix().encode() + b"\0" + f.read_bytes() + b"\0")
-    return h.hexdigest()
+def _package() -> str:
+    """``voe.io.outputs.code_fingerprint`` of the installed package, once per process."""
+    from voe.io.outputs import code_fingerprint
+
+    return code_fingerprint()
 
 
 def code_sha256(model: Any) -> str:
@@ -60,8 +58,9 @@ def code_sha256(model: Any) -> str:
 
     Why: the version string does not change while a developer (or a user with an editable
     install) edits a scorer, so a resumed run would otherwise mix surprise computed by old and
-    new code. The key covers the whole ``voe`` package (built-in models share heads and frame
-    costs across files) and, for a model defined outside it, the source file of its class.
+    new code. The key covers the whole ``voe`` package (``voe.io.outputs.code_fingerprint``, as
+    scratch directories do: built-in models share heads and frame costs across files) and, for a
+    model defined outside it, the source file of its class.
 
     Args:
         model: the scorer being run.
@@ -69,7 +68,7 @@ def code_sha256(model: Any) -> str:
     Returns:
         64 hex characters.
     """
-    h = hashlib.sha256(_package_sha256().encode())
+    h = hashlib.sha256(_package().encode())
     try:
         src = inspect.getsourcefile(type(model))
     except TypeError:  # a builtin or C-extension class has no source file
