@@ -94,3 +94,29 @@ def test_only_parts_that_push_in_flight_answer_for_a_flight_residual():
     eff = EffectSum(tuple(EFFECTS.get(n)() for n in names))
     params = np.array([0.05, 0.001, 0.5, 0.0, 0.1])
     assert flight_movers(flight_samples(scene, eps), eff, params, scene, ctx) == [2, 3]
+
+
+def test_a_significant_but_immaterial_flight_drift_is_not_a_drift(monkeypatch):
+    """Untouched case 7741009: a right quadratic drag (about 1 m/s^2 in flight) was dropped for a
+    residual 0.04 m/s^2 different in one slot; a change must be a share of what is missing."""
+    import dataclasses
+
+    import voe.gap.drift as drift
+
+    eff = EFFECTS.get("constant_acceleration")()
+    scene, eps = _episodes(False, n=12)
+    samples = flight_samples(scene, eps)  # about 0.5 m/s^2 missing, constant in time
+    ctx = context_for(scene, eps)
+
+    def with_step(off: float):
+        dacc = samples.dacc.copy()
+        dacc[samples.time < 0.75, 0] += off  # the first three slots push harder
+        s = dataclasses.replace(samples, dacc=dacc)
+        return drift.flight_drift(s, eff, dacc.mean(axis=0), scene, ctx)
+
+    monkeypatch.setattr(drift, "MATERIAL", 0.0)
+    assert with_step(0.05) is not None  # significant on its own ...
+    monkeypatch.setattr(drift, "MATERIAL", 0.2)
+    assert with_step(0.05) is None  # ... but a tenth of what is missing is no drift at 20 %
+    monkeypatch.setattr(drift, "MATERIAL", 0.1)
+    assert with_step(0.3) is not None and with_step(0.0) is None

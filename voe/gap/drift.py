@@ -216,6 +216,8 @@ def drift_step(p: Problem, loc: Location, s: Search, c: Checked, config: GapConf
 
 FLIGHT_SLOT = 0.25  # s of episode time
 OUTLIER = 10.0  # robust sds from the median: a unit this far off holds a touch labelled flight
+#: A flight drift must be at least this fraction of the missing acceleration it is part of.
+MATERIAL = 0.1
 
 
 def flight_drift(samples: FlightSamples | None, effect: Effect, params: np.ndarray, scene: SceneSpec,
@@ -224,6 +226,13 @@ def flight_drift(samples: FlightSamples | None, effect: Effect, params: np.ndarr
     episode time? A Welch t-test of each ``FLIGHT_SLOT`` slot's residual against all others, per
     axis, on one value per episode and slot (samples of one stretch are smoothed together, so an
     episode's slot is one unit), family-wise ``ALPHA`` over slots and axes.
+
+    A significant change must also be *material*: at least ``MATERIAL`` of the median missing
+    acceleration in flight (``|dacc|``, what the effect has to explain). Why: with hundreds of
+    flight samples a few hundredths of a m/s^2 are significant; untouched bench case 7741009 lost
+    a right ``quadratic_drag`` (selection gain 88 %, about 1 m/s^2 in flight) to a residual that
+    was -0.029 m/s^2 in one slot and 0.011 elsewhere (t = 3.7), the drag's small misfit changing
+    with the speed. A gust fitted by a constant leaves a swing of the gust's own size.
 
     Why in flight: there the nominal acceleration is known exactly (gravity), so what is left is
     the missing force per unit mass at a known time (``voe.gap.prefit``); a constant acceleration
@@ -253,6 +262,7 @@ def flight_drift(samples: FlightSamples | None, effect: Effect, params: np.ndarr
     if len(units) < 6:
         return None
     u, lab = np.array(units), np.array(labels)  # (U, 2), (U,)
+    floor = MATERIAL * float(np.median(np.linalg.norm(samples.dacc, axis=1)))  # m/s^2
     tests = [(a, j) for a in np.unique(lab) if 3 <= np.sum(lab == a) <= len(lab) - 3 for j in range(2)]
     worst = None
     for a, j in tests:
@@ -263,7 +273,8 @@ def flight_drift(samples: FlightSamples | None, effect: Effect, params: np.ndarr
             continue
         df = (vx + vy) ** 2 / (vx**2 / (len(x) - 1) + vy**2 / (len(y) - 1))  # Welch-Satterthwaite
         z = abs(x.mean() - y.mean()) / se
-        if z > critical(int(np.floor(df)), len(tests)) and (worst is None or z > worst.z):
+        material = abs(x.mean() - y.mean()) >= floor
+        if material and z > critical(int(np.floor(df)), len(tests)) and (worst is None or z > worst.z):
             worst = Drift(-1, "xy"[j], f"time {a * FLIGHT_SLOT:.2f} s", float(x.mean()), float(y.mean()), float(z), True)
     return worst
 
