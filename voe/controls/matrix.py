@@ -24,9 +24,9 @@ import pandas as pd
 from voe.controls.spec import Control
 from voe.scoring.metrics import accuracy
 from voe.scoring.runs import Run
-from voe.scoring.stats import bootstrap_ci, holm, permutation_pvalue
-from voe.scoring.table import halves_cells, halves_verdict, holm_nan, set_table
-from voe.scoring.verdict import LEARNED, NOT_LEARNED, set_conditions, verdict, with_halves
+from voe.scoring.stats import bootstrap_ci, permutation_pvalue
+from voe.scoring.table import halves_cells, judge, set_table
+from voe.scoring.verdict import LEARNED, NOT_LEARNED, set_conditions
 
 #: Claims of *no* knowledge hold on every part of a concept: a verdict-carrying condition
 #: inherits them from the concept unless it declares its own.
@@ -120,14 +120,9 @@ def specificity_matrix(controls: Sequence[Control], runs: Sequence[Run], n_boot:
         for part in ([r for r in cells if r["condition"] == "all"], [r for r in cells if r["condition"] != "all"]):
             if not part:
                 continue
-            adj_h = holm_nan(np.array([r["_halves"]["halves_p"] if r["_halves"] else np.nan for r in part]))
-            for r, p, ph in zip(part, holm(np.array([r["p_value"] for r in part])), adj_h, strict=True):
-                r["p_holm"] = float(p)
-                h = r.pop("_halves")
-                r["halves"] = h["halves"] if h else float("nan")
-                # a control faces the rule a model faces, the halves included (voe.scoring.verdict)
-                r["verdict"], r["note"] = with_halves(verdict(r["accuracy"], r["ci_low"], r["ci_high"], r["p_holm"]),
-                                                      halves_verdict(h, float(ph)))
+            judge(part)  # a control faces the rule a model faces, the halves included
+            for r in part:
+                del r["halves_ci_low"], r["halves_ci_high"]  # the matrix shows the halves accuracy only
                 r["as_declared"] = outcome_ok(r["expected"], r["verdict"], r["ci_low"], r["ci_high"])
         rows += cells
     return pd.DataFrame(rows)

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import pandas as pd
 
-from voe.scoring.halves import ab_from_a, halves
+from voe.scoring.halves import halves, splice_sides
 
 
 def set_halves(frames: pd.DataFrame, clips: pd.DataFrame, probes, atol: float = 0.01) -> pd.DataFrame:
@@ -33,12 +33,10 @@ def set_halves(frames: pd.DataFrame, clips: pd.DataFrame, probes, atol: float = 
     rows = []
     quads = clips[clips["set_kind"] == "quadruplet"]
     nll = {cid: g.sort_values("t")["nll"].to_numpy() for cid, g in frames.groupby("clip_id")}
+    sides = splice_sides(probes)
     for sid, grp in quads.groupby("set_id", sort=True):
         ids = dict(zip(grp["variant"], grp["clip_id"], strict=True))
-        batch = probes.batch([ids[v] for v in ("A", "B", "AB", "BA")])
-        st = dict(zip(("A", "B", "AB", "BA"), batch.states, strict=True))
-        pr = dict(zip(("A", "B", "AB", "BA"), batch.present, strict=True))
-        d_ab, d_ba = halves({v: nll[ids[v]] for v in ids}, ab_from_a(st, pr))
+        d_ab, d_ba = halves({v: nll[ids[v]] for v in ids}, sides[str(sid)])
         first = grp.iloc[0]
         rows.append({"concept": first["concept"], "condition": first.get("condition", ""), "set_id": sid,
                      "d_ab": d_ab, "d_ba": d_ba, "sum_right": d_ab + d_ba > atol,

@@ -76,6 +76,11 @@ def quadruplet_halves(nll: dict[str, np.ndarray], from_a: np.ndarray, atol: floa
 _SIDES: dict[str, dict[str, np.ndarray]] = {}
 
 
+def cached_sides(manifest_sha256: str) -> dict[str, np.ndarray] | None:
+    """The sides ``splice_sides`` already read for that probe set, else ``None`` (no I/O)."""
+    return _SIDES.get(manifest_sha256)
+
+
 def splice_sides(probes) -> dict[str, np.ndarray]:
     """Per quadruplet set id of a probe set (a ``ProbeSet``): ``ab_from_a`` ``(T,)``.
 

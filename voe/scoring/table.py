@@ -12,7 +12,7 @@ import numpy as np
 import pandas as pd
 
 from voe.errors import VoeError
-from voe.scoring.halves import VARIANTS, quadruplet_halves, splice_sides
+from voe.scoring.halves import VARIANTS, cached_sides, quadruplet_halves, splice_sides
 from voe.scoring.metrics import TIE_RTOL, accuracy, auroc, score_set, tie_atol
 from voe.scoring.runs import Run
 from voe.scoring.stats import bootstrap_ci, holm, permutation_pvalue
@@ -71,6 +71,9 @@ def _sides(run: Run) -> dict:
     probe set cannot be opened or is not the one scored (its quadruplets then stay unchecked)."""
     from voe.io.probeset import load_probe_set
 
+    known = cached_sides(run.manifest_sha256)  # every table of every run on a probe set: read once
+    if known is not None:
+        return known
     try:
         ps = load_probe_set(run.probes_path)
         if ps.manifest_sha256 != run.manifest_sha256:
@@ -104,6 +107,25 @@ def halves_verdict(cell: dict | None, p_holm: float) -> tuple[str, str] | None:
     return verdict(cell["halves"], cell["halves_ci_low"], cell["halves_ci_high"], p_holm)
 
 
+def judge(rows: list[dict]) -> np.ndarray:
+    """Verdicts of one family of cells (a model's concepts, or a control's): Holm over the sum's
+    p-values and, separately, over the halves' (``halves_cells`` under ``_halves``, removed
+    here), each cell's ``p_holm``, ``verdict`` and ``note`` set by ``with_halves``.
+
+    Returns:
+        ``(len(rows),)`` Holm-adjusted halves p-values (NaN for cells without quadruplets).
+    """
+    adj = holm(np.array([r["p_value"] for r in rows]))
+    adj_h = holm_nan(np.array([r["_halves"]["halves_p"] if r["_halves"] else np.nan for r in rows]))
+    for r, p, ph in zip(rows, adj, adj_h, strict=True):
+        r["p_holm"] = float(p)
+        h = r.pop("_halves")
+        r.update({k: (h or {}).get(k, float("nan")) for k in ("halves", "halves_ci_low", "halves_ci_high")})
+        r["verdict"], r["note"] = with_halves(verdict(r["accuracy"], r["ci_low"], r["ci_high"], r["p_holm"]),
+                                              halves_verdict(h, float(ph)))
+    return adj_h
+
+
 def _cell(sets: pd.DataFrame, n_boot: int, seed: int) -> dict[str, float]:
     s = sets["accuracy"].to_numpy()
     lo, hi = bootstrap_ci(s, n_boot=n_boot, seed=seed)
@@ -127,16 +149,8 @@ def concept_table(runs: Sequence[Run], n_boot: int = 10_000, seed: int = 0) -> p
                          "auroc": auroc(clips["sum"].to_numpy(), (clips["role"] == "impossible").to_numpy(),
                                         tie_atol(run.surprise_kind))})
             rows[-1]["_halves"] = halves_cells(grp, n_boot, seed)
-        adj = holm(np.array([r["p_value"] for r in rows[start:]]))
-        hp = [r["_halves"]["halves_p"] if r["_halves"] else np.nan for r in rows[start:]]
-        adj_h = holm_nan(np.array(hp))
-        for r, p, ph in zip(rows[start:], adj, adj_h, strict=True):
-            r["p_holm"] = float(p)
-            h = r.pop("_halves")
-            r.update({k: (h or {}).get(k, float("nan")) for k in ("halves", "halves_ci_low", "halves_ci_high")})
+        for r, ph in zip(rows[start:], judge(rows[start:]), strict=True):
             r["halves_p_holm"] = float(ph)
-            r["verdict"], r["note"] = with_halves(verdict(r["accuracy"], r["ci_low"], r["ci_high"], r["p_holm"]),
-                                                  halves_verdict(h, float(ph)))
     return pd.DataFrame(rows, columns=list(SUMMARY_COLUMNS))
 
 
