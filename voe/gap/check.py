@@ -55,7 +55,8 @@ def check_step(p: Problem, loc: Location, s: Search, config: GapConfig, seed: in
         if len(keys) > 1:  # earn its place: refit without each part
             rises = []
             for k in range(len(keys)):
-                red = _refit_without(s, model, keys, k, rounds)
+                eff, starts = without(model, k)
+                red = s.fitter.refit(eff, starts, s.fitter.config.refine_nfev)
                 rises.append((window_gain(red.window_sse, model.window_sse), k, red))
             rise, k, red = min(rises, key=lambda r: r[0] - thresholds[r[1]])
             if rise <= thresholds[k]:
@@ -89,36 +90,6 @@ def check_step(p: Problem, loc: Location, s: Search, config: GapConfig, seed: in
     ver, note = _test(p, model, config, loc.z_threshold)
     nominal = model.effect.nominal(ctx) if model is not None else np.zeros(0)
     return Checked(model, tuple(keys), lo, hi, tuple(dropped), ver, note, nominal)
-
-
-def _refit_without(s: Search, model: FitResult, keys: list[str], k: int, rounds: dict[str, Round]) -> FitResult:
-    """``model`` without part ``k``, refitted from two starts, the one with the lower training
-    cost kept: the model's own values of the other parts, and each part's values from the round
-    that accepted it (before later parts were fitted next to it).
-
-    Why: the parts of a sum adapt to each other. Refitted from values bent by part ``k`` within
-    the refine step's few evaluations, the rest can stay short of its own optimum, and ``k`` then
-    looks needed: on development case 7741002 (a constant acceleration alone) a
-    ``friction_region`` came second and was kept although the acceleration of round one
-    explained the data. Chosen by training cost, so the selection windows judge only the result.
-    """
-    eff, starts = without(model, k)
-    nfev = s.fitter.config.refine_nfev
-    red = s.fitter.refit(eff, starts, nfev)
-    rest = [i for i in range(len(keys)) if i != k]
-    if not any(keys[i] in rounds and keys[i] in rounds[keys[i]].results for i in rest):
-        return red
-    own = []
-    for f, fp in enumerate(model.fold_params):
-        cur = EffectSum(model.effect.parts).split(fp)
-        parts = []
-        for i in rest:
-            r = rounds.get(keys[i])
-            res = r.results.get(keys[i]) if r is not None else None
-            parts.append(EffectSum(res.effect.parts).split(res.fold_params[f])[-1] if res is not None else cur[i])
-        own.append(np.concatenate(parts))
-    alt = s.fitter.refit(eff, tuple(own), nfev)
-    return alt if alt.train_cost < red.train_cost else red
 
 
 def _alternative(s: Search, rnd: Round | None, tried: set[str], rest: Effect | None,
