@@ -108,6 +108,14 @@ def summary_lines(matrix: pd.DataFrame, summary: pd.DataFrame, balance: pd.DataF
              f"have a CI containing 0.5 and are not learned; off: "
              + (", ".join(f"{r.control} x {r.concept} ({r.condition}) {r.accuracy:.2f}"
                           for r in kf.drop(kf_ok.index).itertuples()) or "none")]
+    from voe.controls.confound import off_chance
+
+    off = kf[off_chance(kf) | kf["verdict"].eq(LEARNED)]
+    lines.append(f"knowledge-free on the statistic that carries each verdict (the halves on cells of spliced "
+                 f"quadruplets, the sum elsewhere): {len(kf) - len(off)} of {len(kf)} at chance and not learned; off: "
+                 + (", ".join(f"{r.control} x {r.concept} ({r.condition}) "
+                              + (f"halves {r.halves:.2f}" if r.verdict_stat == "halves" else f"{r.accuracy:.2f}")
+                              for r in off.itertuples()) or "none"))
     fm = balance[balance["F"] & balance["M"]]
     for name in ("motion-energy", "density", "stress-frame", "stress-step"):
         on = stat_sets[name].merge(fm[["concept", "set_id"]], on=["concept", "set_id"])

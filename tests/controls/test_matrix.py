@@ -130,3 +130,44 @@ def test_random_networks_confound_only_models_of_their_own_class():
                              "oracle": "voe.models.oracle:PhysicsOracle"}).set_index("model")
     assert out.loc["interaction", "verdict"] == CONFOUNDED and out.loc["oracle", "verdict"] == LEARNED
     assert out.loc["interaction", "confounded_by"].startswith("random-interaction-s0 1.00")
+
+
+def _quad_run(d_ab: float, d_ba: float, n_sets: int, label: str) -> Run:
+    """Quadruplets whose per-frame surprise differs only at the return frame after the splice:
+    AB by ``d_ab`` against B's frames, BA by ``d_ba`` against A's (``voe.scoring.halves``)."""
+    from voe.scoring import halves as halves_mod
+
+    T, rows, nll = 10, [], []
+    for s in range(n_sets):
+        for v in ("A", "B", "AB", "BA"):
+            rows.append({"clip_id": f"c{s}{v}", "concept": "Q-v1", "set_id": f"q-{s:02d}",
+                         "set_kind": "quadruplet", "variant": v,
+                         "role": "impossible" if len(v) == 2 else "possible", "onset_frame": 1,
+                         "visible_violation": False, "n_distractors": 0})
+            x = np.ones(T)
+            x[7] += {"AB": d_ab, "BA": d_ba}.get(v, 0.0)
+            nll.append(x)
+    sha = f"sha-{label}"
+    halves_mod._SIDES[sha] = {f"q-{s:02d}": np.array([True] * 5 + [False] * 5) for s in range(n_sets)}
+    meta = {"probes": {"manifest_sha256": sha, "path": "none"}, "model": {"name": label}}
+    return Run(None, meta, pd.DataFrame(rows), np.array(nll), label)
+
+
+def test_on_spliced_quadruplets_a_control_confounds_through_the_halves_not_the_sum():
+    n = 12
+    fading = _quad_run(+3.0, -1.0, n, "fading")  # sum right on every set, each half right once
+    knows = _quad_run(+2.0, +1.0, n, "knows")  # both halves right: a memory that passes the verdict
+    ctrls = [Control("fading", "knowledge-free", "m", default="chance"),
+             Control("knows", "knowledge-free", "m", default="chance")]
+    m = specificity_matrix(ctrls, [fading, knows], n_boot=200)
+    rows = m[m["condition"] == "all"].set_index("control")
+    assert (rows["verdict_stat"] == "halves").all()
+    assert rows.loc["fading", "accuracy"] == 1.0 and rows.loc["fading", "halves"] == 0.5
+    assert not confounders(m[m["control"] == "fading"])["confounded"].any()
+    conf = confounders(m[m["control"] == "knows"])
+    assert conf["confounded"].all() and conf["by"].iloc[0].startswith("knows halves 1.00")
+    # a cell of pairs keeps the sum as its statistic: there the sum alone carries the verdict
+    pairs = specificity_matrix([Control("p", "knowledge-free", "m", default="chance")],
+                               [_run(np.r_[np.zeros((1, 3)), np.ones((1, 3))].repeat(n, 0).reshape(2, n, 3)
+                                     .transpose(1, 0, 2).reshape(2 * n, 3), n)], n_boot=200)
+    assert (pairs["verdict_stat"] == "sum").all() and confounders(pairs)["confounded"].all()

@@ -4,7 +4,8 @@ Why: "model M learned X" only means something if nothing that lacks X separates 
 clips as well. So wherever, on the same probe set, a knowledge-free control is off chance (either
 direction: a reversed statistic is a perfect one negated; its 95% CI excludes 0.5 *and* the
 two-sided sign-flip test rejects chance at ``ALPHA``, so that three sets that happen to agree do
-not condemn a probe) or a physics-poor reference is learned
+not condemn a probe; on spliced quadruplets this is read on the halves, the statistic that
+carries the verdict there, see ``off_chance``) or a physics-poor reference is learned
 beyond its declared knowledge, every model's verdict there becomes *confounded*, shown next to
 the control that did it (``voe.scoring.verdict.CONFOUNDED_RULE``). Concepts that declare no
 balanced design are confounded whatever the controls do. Works for any concept in a probe set,
@@ -40,12 +41,33 @@ def no_balanced_design(index: pd.DataFrame) -> set[str]:
 
 
 def _cell_text(r) -> str:
+    if getattr(r, "verdict_stat", "sum") == "halves":
+        return f"{r.control} halves {r.halves:.2f} [{r.halves_ci_low:.2f}, {r.halves_ci_high:.2f}] (sum {r.accuracy:.2f})"
     return f"{r.control} {r.accuracy:.2f} [{r.ci_low:.2f}, {r.ci_high:.2f}]"
 
 
-def _off_chance(m: pd.DataFrame) -> pd.Series:
+def _outside(lo: pd.Series, hi: pd.Series, p2: pd.Series) -> pd.Series:
+    return ~((lo <= 0.5) & (0.5 <= hi)) & p2.lt(ALPHA)
+
+
+def off_chance(m: pd.DataFrame) -> pd.Series:
+    """Matrix cells whose control is off chance, either way, on the statistic that carries the
+    cell's verdict.
+
+    That is the sum's accuracy, except on cells made only of spliced quadruplets
+    (``verdict_stat == 'halves'``), where it is the halves accuracy: there a model is *learned*
+    only if its halves are (``voe.scoring.verdict.HALVES_RULE``), and a set whose two halves are
+    both right has its sum right too, so the halves decide. A memory whose cost only grows (or
+    only fades) with the time an object was hidden moves the sum off chance but leaves the
+    halves at exactly 0.5 on every set; such a control shows that the *sum* can be gamed, which
+    the halves rule already stops, not that a model passing the halves lacks the concept.
+    """
     p2 = m["p_two_sided"] if "p_two_sided" in m.columns else pd.Series(0.0, index=m.index)
-    return ~((m["ci_low"] <= 0.5) & (0.5 <= m["ci_high"])) & p2.lt(ALPHA)
+    off = _outside(m["ci_low"], m["ci_high"], p2)
+    if "verdict_stat" not in m.columns:
+        return off
+    hv = m["verdict_stat"].eq("halves")
+    return off.where(~hv, _outside(m["halves_ci_low"], m["halves_ci_high"], m["halves_p_two_sided"]))
 
 
 def _verdict_cells(matrix: pd.DataFrame) -> pd.DataFrame:
@@ -61,7 +83,7 @@ def confounders(matrix: pd.DataFrame, no_balance: Iterable[str] = ()) -> pd.Data
     controls that confound it for every model (scoped controls excluded, see
     ``scoped_confounders``). Columns: concept, condition, confounded, by."""
     m = _verdict_cells(matrix)
-    kf = m["family"].isin(KNOWLEDGE_FREE) & _off_chance(m) & _scope(m).eq("")
+    kf = m["family"].isin(KNOWLEDGE_FREE) & off_chance(m) & _scope(m).eq("")
     pp = m["family"].isin(PHYSICS_POOR) & m["verdict"].eq(LEARNED) & ~m["expected"].isin(("pass", "none"))
     bad = m[kf | pp]
     nb = set(no_balance)
@@ -77,7 +99,7 @@ def confounders(matrix: pd.DataFrame, no_balance: Iterable[str] = ()) -> pd.Data
 def scoped_confounders(matrix: pd.DataFrame) -> dict[str, dict[str, str]]:
     """model class -> {concept: why} from its random networks that are off chance."""
     m = _verdict_cells(matrix)
-    m = m[m["family"].isin(KNOWLEDGE_FREE) & _off_chance(m) & _scope(m).ne("")]
+    m = m[m["family"].isin(KNOWLEDGE_FREE) & off_chance(m) & _scope(m).ne("")]
     out: dict[str, dict[str, list[str]]] = {}
     for r in m.itertuples():
         where = "" if r.condition == "all" else f"{r.condition}: "
