@@ -26,7 +26,8 @@ KNOWLEDGE_FREE = ("knowledge-free", "random-net")
 LAWFUL = ("gravity", "solidity", "collision", "energy")
 
 
-def prepare(work: Path, seed: int, per_concept: int, world_n: int, steps: int | None, jobs: int) -> dict[str, Path]:
+def prepare(work: Path, seed: int, per_concept: int, world_n: int, steps: int | None, jobs: int,
+            hidden_p: float = 0.0) -> dict[str, Path]:
     """Probes, worlds and a trained object-centric model (each made once under ``work``)."""
     from voe.concepts.generate import generate_probe_set, resolve_concepts
     from voe.models.train import TrainConfig, train
@@ -39,7 +40,8 @@ def prepare(work: Path, seed: int, per_concept: int, world_n: int, steps: int | 
         generate_probe_set(p["probes"], resolve_concepts("core"), per_concept, seed, SimConfig(size=64), jobs, True)
     for key, n, s in (("world", world_n, seed), ("calib", 200, seed + 1)):
         if not (p[key] / "manifest.json").exists():
-            generate_world(p[key], n, s, SimConfig(size=64), "none", jobs, True)
+            generate_world(p[key], n, s, SimConfig(size=64), "none", jobs, True,
+                           hidden_p=hidden_p if key == "world" else 0.0)
     if not p["ckpt"].exists():
         train("interaction", p["world"], p["ckpt"], TrainConfig(steps=steps, minutes=30.0, seed=seed, threads=1))
     return p
@@ -159,6 +161,9 @@ def main() -> None:
     ap.add_argument("--world-n", type=int, default=2000)
     ap.add_argument("--steps", type=int, default=None,
                     help="training steps of the object-centric model (default: its preset)")
+    ap.add_argument("--hidden-events", type=float, default=0.0,
+                    help="share of training scenes with their main event behind a screen (voe.world.hidden); "
+                         "default 0: the ordinary world")
     ap.add_argument("--work", type=Path, default=None)
     ap.add_argument("--jobs", type=int, default=2)
     a = ap.parse_args()
@@ -172,7 +177,7 @@ def main() -> None:
     seed = SPLITS[a.split]
     work = a.work or Path(f"voe-work/validity-bench-{a.split}")
     t0 = time.monotonic()
-    p = prepare(work, seed, a.per_concept, a.world_n, a.steps, a.jobs)
+    p = prepare(work, seed, a.per_concept, a.world_n, a.steps, a.jobs, a.hidden_events)
     runs = score_models(p, work)
     t1 = time.monotonic()
     fams = tuple(f for f in FAMILIES if f != "counterfactual")

@@ -56,3 +56,24 @@ def test_point_attractor_is_fitted_from_its_two_most_promising_starts():
     alone = fitter.fit(eff, [zero], max_nfev=12)
     # from zero strength alone the search lands in another valley (a far, strong attractor)
     assert res.train_cost < 0.5 * alone.train_cost and abs(res.params[0] - 1.5) < 0.5
+
+
+def test_point_attractor_keeps_its_grid_beside_the_regression_starts():
+    # development case 7741034: the two flight-regression starts (from noisy twice-differenced
+    # accelerations) both lay in a wrong valley, and they used to replace the grid; an effect with
+    # several valleys now screens the regression starts together with its grid, which reaches
+    # above the highest recorded position (a ball arcs below a point above it)
+    from voe.gap.fit import extend
+
+    scene, eps = flight_episodes("point_attractor", [1.5, 0.5, 2.0], seed=4)
+    ctx = _context(scene, eps)
+    pa, spring = EFFECTS.get("point_attractor")(), EFFECTS.get("spring_anchor")()
+    grid = pa.starts(ctx)
+    assert len(grid) == 24 and max(s[2] for s in grid) > ctx.hi[1] + 0.9
+    assert min(s[1] for s in grid) < ctx.lo[0] and max(s[1] for s in grid) > ctx.hi[0]
+    _, starts = extend(None, np.zeros(0), pa, ctx)
+    assert len(starts) > len(grid)  # regression starts added, grid kept
+    assert all(any(np.array_equal(g, s) for s in starts) for g in grid)
+    _, spring_starts = extend(None, np.zeros(0), spring, ctx)
+    assert spring.multi_start == 1 and len(spring.starts(ctx)) > 2
+    assert len(spring_starts) <= 2  # a one-valley effect still starts from its regression fits only

@@ -37,7 +37,8 @@ def test_flight_accelerations_locate_a_point_attractor():
     assert ctx.flight is not None and len(ctx.flight) > 200
     eff = EFFECTS.get("point_attractor")()
     _, starts = extend(None, np.zeros(0), eff, ctx)
-    assert len(starts) <= 3  # the 18-point grid is replaced by regression fits
+    n_grid = len(eff.starts(ctx))
+    assert 1 <= len(starts) - n_grid <= 2  # regression fits first, the grid kept behind them (multi_start)
     np.testing.assert_allclose(starts[0][1:], ATTRACTOR[1:], atol=0.15)
 
 

@@ -224,13 +224,16 @@ def extend(current: Effect | None, params: np.ndarray, cand: Effect, ctx: FitCon
 
     A force effect's starts are first refined by a regression on the free-flight accelerations
     that ``current`` leaves unexplained (``prefit_starts``); the effect's own grid is kept
-    only when it is small, so the simulator fit starts from at most a handful of points.
+    only when it is small, so the simulator fit starts from at most a handful of points, or when
+    the effect declares several valleys (``multi_start > 1``): twice-differenced accelerations
+    are noisy, and a regression start can sit in the wrong valley (case 7741034), so it joins
+    the grid in ``Fitter.fit``'s screen instead of replacing it.
     """
     own = cand.starts(ctx)
     lo, hi = cand.bounds(ctx)
     pre = prefit_starts(cand, own, lo, hi, cand.scale(ctx), ctx.flight, ctx.scene, current, params)
-    if pre:
-        own = pre + (own if len(own) <= 2 else [])
+    if pre:  # an effect with several valleys keeps its grid: the regression is one more start, screened with it
+        own = pre + (own if len(own) <= 2 or cand.multi_start > 1 else [])
     if current is None:
         return cand, own
     combo = EffectSum(current.parts + cand.parts)

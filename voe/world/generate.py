@@ -44,13 +44,15 @@ def _pass_through(world: World) -> None:
         world.set_passable(slot, statics=True, objects=True)
 
 
-def make_clip(index: int, seed: int, cfg: SimConfig, counterfactual: str = "none") -> ClipRecord:
-    """Clip number ``index`` of the training set drawn with ``seed``."""
+def make_clip(index: int, seed: int, cfg: SimConfig, counterfactual: str = "none",
+              hidden_p: float = 0.0) -> ClipRecord:
+    """Clip number ``index`` of the training set drawn with ``seed`` (``hidden_p``: share of
+    scenes with their main event behind a screen, ``sampler.sample_scene``)."""
     import numpy as np
 
     rng = np.random.default_rng(stable_seed("voe-world", seed, index))
     clip_seed = int(rng.integers(2**31))
-    scene, summary = sample_scene(rng, cfg)
+    scene, summary = sample_scene(rng, cfg, hidden_p)
     events: dict[int, Callable[[World], None]] = {}
     if counterfactual == "gravity_off":
         scene = replace(scene, gravity=(0.0, 0.0))
@@ -70,10 +72,10 @@ def make_clip(index: int, seed: int, cfg: SimConfig, counterfactual: str = "none
     return ClipRecord(row, rec.frames, rec.states, rec.present, rec.exists)
 
 
-def _make(job: tuple[int, int, SimConfig, str]) -> ClipRecord:
-    index, seed, cfg, cf = job
+def _make(job: tuple[int, int, SimConfig, str, float]) -> ClipRecord:
+    index, seed, cfg, cf, hidden_p = job
     try:
-        return make_clip(index, seed, cfg, cf)
+        return make_clip(index, seed, cfg, cf, hidden_p)
     except Exception as exc:  # a sampler bug: name the clip so it can be reproduced
         raise VoeError(f"training clip {index} (seed {seed}, {cf}) failed: {exc!r}") from exc
 
@@ -91,12 +93,18 @@ def check_counterfactual(counterfactual: str) -> None:
 
 def generate_world(out: Path, n: int, seed: int, cfg: SimConfig, counterfactual: str = "none",
                    jobs: int = 1, overwrite: bool = False,
-                   progress: Callable[[int], None] | None = None) -> dict[str, Any]:
-    """Generate and write ``n`` training clips; returns the manifest."""
+                   progress: Callable[[int], None] | None = None, hidden_p: float = 0.0) -> dict[str, Any]:
+    """Generate and write ``n`` training clips; returns the manifest (``hidden_events`` recorded
+    only when ``hidden_p`` > 0, so default manifests are unchanged)."""
     check_counterfactual(counterfactual)
     if n < 1:
         raise VoeError(f"--n must be at least 1, got {n}")
-    work = ((i, seed, cfg, counterfactual) for i in range(n))
+    if not 0.0 <= hidden_p <= 1.0:
+        raise VoeError(f"hidden-event share must be in [0, 1], got {hidden_p}")
+    work = ((i, seed, cfg, counterfactual, hidden_p) for i in range(n))
     records = parallel_map(_make, work, jobs, progress)
-    meta = manifest_meta("train", [], seed, cfg, {"counterfactual": counterfactual, "n": n})
+    extra: dict[str, Any] = {"counterfactual": counterfactual, "n": n}
+    if hidden_p > 0:
+        extra["hidden_events"] = hidden_p
+    meta = manifest_meta("train", [], seed, cfg, extra)
     return write_probe_set(out, records, meta, overwrite=overwrite)
