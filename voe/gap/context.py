@@ -98,15 +98,14 @@ def summarize(labels: np.ndarray, pose: np.ndarray) -> tuple[str, list[float]]:
 
 
 def near_contact(scene: SceneSpec, ep: Episode, tol: float = 0.01) -> np.ndarray:
-    """(T,) bool: two bodies not joined to each other are within ``tol`` of touching (their
-    outlines' surface distance, ``surface_gap``), at any sample of ``ep``.
+    """(T,) bool: two bodies not joined to each other are within ``tol`` of touching (bounding
+    circles), at any sample of ``ep``.
 
     Why: a window that starts inside a collision between bodies (two riders on an air track)
     estimates both start velocities across the impact, and every model then sends the bodies
-    on through each other; such windows must not start there. Why outlines and not bounding
-    circles (before session 9): a 0.3 x 0.2 m box's bounding circle reaches 8 cm above its top,
-    so a ball flying over it barred window starts without any contact.
+    on through each other; such windows must not start there.
     """
+    reach = np.array([float(np.max(np.linalg.norm(b.local_vertices(), axis=1))) for b in scene.bodies])  # (B,)
     joined = {frozenset((j.a, j.b)) for j in scene.joints if j.b is not None}
     out = np.zeros(len(ep.t), dtype=bool)
     names = scene.names
@@ -114,32 +113,6 @@ def near_contact(scene: SceneSpec, ep: Episode, tol: float = 0.01) -> np.ndarray
         for j in range(i + 1, len(names)):
             if frozenset((names[i], names[j])) in joined:
                 continue
-            out |= surface_gap(scene, i, j, ep.pose[:, i], ep.pose[:, j]) < tol
+            d = np.linalg.norm(ep.pose[:, i, :2] - ep.pose[:, j, :2], axis=1)
+            out |= d < reach[i] + reach[j] + tol
     return out
-
-
-def surface_gap(scene: SceneSpec, i: int, j: int, pose_i: np.ndarray, pose_j: np.ndarray) -> np.ndarray:
-    """(T,) distance between the surfaces of bodies ``i`` and ``j`` at poses (T, 3) each (0 or
-    less where they overlap): circles by centre and radius, polygons by their outlines."""
-    bi, bj = scene.bodies[i], scene.bodies[j]
-    if bi.shape == "circle" and bj.shape == "circle":
-        return np.linalg.norm(pose_i[:, :2] - pose_j[:, :2], axis=1) - bi.radius - bj.radius
-    if bi.shape == "circle":
-        return surface_gap(scene, j, i, pose_j, pose_i)
-    poly_i = _outline(scene, i, pose_i)  # (T, V, 2)
-    if bj.shape == "circle":
-        return _to_edges(pose_j[:, None, :2], poly_i).min(axis=1) - bj.radius
-    poly_j = _outline(scene, j, pose_j)
-    return np.minimum(_to_edges(poly_j, poly_i).min(axis=1), _to_edges(poly_i, poly_j).min(axis=1))
-
-
-def _to_edges(pts: np.ndarray, poly: np.ndarray) -> np.ndarray:
-    """(T, N) distance from points (T, N, 2) to the closed outline (T, V, 2); 0 inside it (convex)."""
-    a, b = poly, np.roll(poly, -1, axis=1)  # (T, V, 2) edge ends
-    ab = b - a
-    ap = pts[:, :, None, :] - a[:, None]  # (T, N, V, 2)
-    u = np.clip(np.sum(ap * ab[:, None], axis=-1) / np.maximum(np.sum(ab * ab, axis=-1), 1e-12)[:, None], 0, 1)
-    d = np.linalg.norm(ap - u[..., None] * ab[:, None], axis=-1)  # (T, N, V)
-    cross = ab[:, None, :, 0] * ap[..., 1] - ab[:, None, :, 1] * ap[..., 0]  # (T, N, V): > 0 left of each edge
-    inside = np.all(cross >= 0, axis=-1) | np.all(cross <= 0, axis=-1)
-    return np.where(inside, 0.0, d.min(axis=-1))

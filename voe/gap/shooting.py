@@ -32,78 +32,24 @@ class Window:
     k1: int
 
 
-def local_state(ep: Episode, k: int, half: int | None = None, side: int = 0) -> tuple[np.ndarray, np.ndarray, float]:
-    """Smoothed pose and velocity at sample ``k`` from a local polynomial fit.
+def local_state(ep: Episode, k: int, half: int | None = None) -> tuple[np.ndarray, np.ndarray, float]:
+    """Smoothed pose and velocity at sample ``k`` from a local cubic fit.
 
-    Args:
-        side: 0 fits a cubic on the samples centred on ``k``; +1 a quadratic on ``k`` and the
-            samples after it only, -1 on ``k`` and those before it only (``start_sides``). Why
-            one side: next to an impact a centred fit straddles the bounce and the start state
-            is garbage; fitted on the clean side only, a window may start right after (or
-            before) a bounce. Why a quadratic there: at the end of its span a cubic's slope has
-            13 times the variance of a centred cubic's (25 samples), a quadratic's 2.4 times, and
-            free flight and rolling between contacts are quadratic in time.
     Returns:
-        pose (B, 3), vel (B, 3), and the effective sum of squared time offsets (the velocity
-        error is var(v) ~ sigma^2 / sxx; a one-sided fit's sxx is the centred fit's divided by
-        its larger variance, ``one_sided_factor``).
+        pose (B, 3), vel (B, 3), and the sum of squared time offsets used (for the velocity
+        error: var(v) ~ sigma^2 / sum dt^2).
     """
     half = HALF if half is None else half
     n = min(len(ep.t), max(2 * half + 1, ORDER + 3))  # one-sided at the ends, never too few samples
-    if side > 0:
-        lo = min(k, len(ep.t) - n)
-    elif side < 0:
-        lo = max(0, k - n + 1)
-    else:
-        lo = min(max(0, k - n // 2), len(ep.t) - n)
+    lo = min(max(0, k - n // 2), len(ep.t) - n)
     hi = lo + n
     tt = ep.t[lo:hi] - ep.t[k]  # (N,)
     y = ep.pose[lo:hi].reshape(hi - lo, -1)  # (N, B*3)
     span = max(float(np.max(np.abs(tt))), 1e-9)  # scale time to [-1, 1] so the fit is well conditioned
-    order = ORDER if side == 0 else 2
-    coef = np.polyfit(tt / span, y, order)  # (order+1, B*3)
+    coef = np.polyfit(tt / span, y, ORDER)  # (ORDER+1, B*3)
     b = ep.pose.shape[1]
     sxx = float(np.sum((tt - tt.mean()) ** 2))
-    if side != 0:
-        sxx /= one_sided_factor(n)
     return coef[-1].reshape(b, 3), coef[-2].reshape(b, 3) / span, sxx
-
-
-def one_sided_factor(n: int) -> float:
-    """Variance of the end slope of a quadratic fitted to ``n`` evenly spaced samples, over that
-    of the centre slope of a cubic on the same number (about 2.4 for 17-25 samples)."""
-    def slope_var(tt: np.ndarray, order: int) -> float:
-        x = np.vander(tt, order + 1)  # (n, order+1)
-        return float(np.linalg.inv(x.T @ x)[-2, -2])
-
-    return slope_var(np.arange(n, dtype=float), 2) / slope_var(np.arange(n, dtype=float) - (n - 1) / 2, ORDER)
-
-
-def start_sides(impact: np.ndarray, half: int) -> np.ndarray:
-    """(T,) int8 per sample: 0 if the centred velocity-fit span around it (one sample of margin on
-    each side) holds no impact sample, else +1 if the span after it does not, else -1 if the span
-    before it does not, else 2 (no clean span: no window may start there); ``impact`` is (T,) bool.
-
-    The centred fit is kept wherever it is clean (it is the least noisy); one side is used only
-    where the centred span would straddle an impact.
-    """
-    t_len = len(impact)
-    n = max(2 * half + 1, ORDER + 3)
-    c = np.concatenate([[0], np.cumsum(impact.astype(int))])  # c[j] = impacts before sample j
-
-    def clean(a: np.ndarray, b: np.ndarray) -> np.ndarray:  # no impact in samples a..b-1 (clipped)
-        a, b = np.clip(a, 0, t_len), np.clip(b, 0, t_len)
-        return c[b] - c[a] == 0
-
-    k = np.arange(t_len)
-    out = np.full(t_len, 2, dtype=np.int8)
-    back = clean(k - n, k + 2) & (k - n + 1 >= 0)
-    out[back] = -1
-    fwd = clean(k - 1, k + n + 1) & (k + n <= t_len)
-    out[fwd] = 1
-    out[clean(k - n // 2 - 1, k + n // 2 + 2)] = 0
-    out[impact] = 2
-    return out
 
 
 def noise_floor(episodes: list[Episode]) -> np.ndarray:
@@ -202,10 +148,8 @@ class Shooter:
         substep: simulator step in seconds.
     """
 
-    def __init__(self, scene: SceneSpec, episodes: list[Episode], substep: float, half: int = HALF,
-                 sides: dict[int, np.ndarray] | None = None) -> None:
+    def __init__(self, scene: SceneSpec, episodes: list[Episode], substep: float, half: int = HALF) -> None:
         self.scene, self.episodes, self.substep, self.half = scene, episodes, substep, half
-        self.sides = sides or {}  # per episode index, (T,) ``start_sides`` (default: centred fits)
         self._ic: dict[tuple[int, int], tuple[np.ndarray, np.ndarray, float]] = {}
         self.scale = np.concatenate([np.ones((len(scene.bodies), 2)), gyration(scene)[:, None]], axis=1)  # (B, 3)
         self.n_rollouts = 0
@@ -213,9 +157,7 @@ class Shooter:
     def initial(self, ep: int, k: int) -> tuple[np.ndarray, np.ndarray, float]:
         key = (ep, k)
         if key not in self._ic:
-            side = self.sides.get(ep)
-            self._ic[key] = local_state(self.episodes[ep], k, self.half,
-                                        0 if side is None or side[k] == 2 else int(side[k]))
+            self._ic[key] = local_state(self.episodes[ep], k, self.half)
         return self._ic[key]
 
     def simulate(self, win: Window, effect: Effect | None, params: np.ndarray | None) -> np.ndarray:

@@ -29,7 +29,7 @@ from voe.gap.null import NullRound, NullSearch
 from voe.gap.prefit import flight_samples
 from voe.gap.recordings import Episode, load_recordings
 from voe.gap.scene import load_scene, resolve_joints
-from voe.gap.shooting import Shooter, Window, choose_half, make_windows, noise_model, start_sides
+from voe.gap.shooting import Shooter, Window, choose_half, make_windows, noise_model
 from voe.gap.split import Split, split_episodes
 from voe.gap.synth import null_like
 from voe.sim.scenefile import SceneSpec
@@ -62,7 +62,6 @@ class Problem:
     substep: float
     half: int  # velocity-fit half-width
     bad: dict[int, np.ndarray]  # per episode, (T,) samples a window must not start at
-    sides: dict[int, np.ndarray]  # per episode, (T,) which samples a start state is fitted on (``start_sides``)
     split: Split
     candidates: dict[str, Effect]
     shooter: Shooter
@@ -103,16 +102,15 @@ def prepare(scene: str | Path | SceneSpec, recordings: str | Path | pd.DataFrame
     loc = make_windows(eps, list(range(len(eps))), config.locate_window)
     half = choose_half(spec, eps, loc, sub)
     sigma, phi = noise_model(eps)
-    sides = {i: start_sides(_impacts(spec, e), half) for i, e in enumerate(eps)}
-    return Problem(spec, eps, sigma, phi, sub, half, _bad_starts(sides, half), sides, split,
-                   _candidates(names, spec), Shooter(spec, eps, sub, half, sides))
+    return Problem(spec, eps, sigma, phi, sub, half, _bad_starts(spec, eps, half), split,
+                   _candidates(names, spec), Shooter(spec, eps, sub, half))
 
 
 def locate_step(p: Problem, config: GapConfig, rng: np.random.Generator) -> Location:
     """Window z-scores of the data against a clean replicate's; located stretches."""
     windows = make_windows(p.episodes, list(range(len(p.episodes))), config.locate_window, bad_start=p.bad)
     null_eps = null_like(p.scene, p.episodes, p.sigma, rng, p.substep, p.phi)
-    z_null = window_z(Shooter(p.scene, null_eps, p.substep, p.half, p.sides), windows, p.sigma).max(axis=(1, 2))  # (W,)
+    z_null = window_z(Shooter(p.scene, null_eps, p.substep, p.half), windows, p.sigma).max(axis=(1, 2))  # (W,)
     z_thr = float(max(config.z_min, np.quantile(z_null, 0.95)))
     z_strong = float(max(config.z_min, np.max(z_null)))
     z = window_z(p.shooter, windows, p.sigma)
@@ -125,7 +123,7 @@ def search_step(p: Problem, loc: Location, config: GapConfig, max_effects: int, 
     """The greedy search on the data, each round judged against the same round on clean data."""
     note = progress or (lambda s: None)
     data = _folded(p, p.shooter, p.episodes, config, seed)
-    null_shooter = Shooter(p.scene, loc.null_episodes, p.substep, p.half, p.sides)
+    null_shooter = Shooter(p.scene, loc.null_episodes, p.substep, p.half)
     null = NullSearch(_folded(p, null_shooter, loc.null_episodes, config, seed), p.candidates, config.null_alpha,
                       config.min_gain, seed, lambda k: note(f"null: {k}"), n_jobs)
     contexts = {x["context"] for x in loc.located} or _all_labels(p.scene, p.episodes)
@@ -189,23 +187,13 @@ def _load(scene: str | Path | SceneSpec, recordings: str | Path | pd.DataFrame |
     return spec, eps
 
 
-def _impacts(scene: SceneSpec, e: Episode) -> np.ndarray:
-    """(T,) samples of an impact (with a static or between bodies) or of two free bodies nearly touching."""
-    return (frame_labels(scene, e) == "impact").any(axis=1) | near_contact(scene, e)
-
-
-def _bad_starts(sides: dict[int, np.ndarray], half: int) -> dict[int, np.ndarray]:
-    """Samples with no velocity-fit span clear of impacts on either side (``start_sides``), or
-    before the first full span, per episode index.
-
-    Why one side is enough: the start state must not be estimated across an impact, but a window
-    may start next to one, its state fitted on the clean side. Barring the whole centred span
-    around every bounce (as before session 9) barred 62-73 % of the samples of the bench's ball
-    and box episodes and left 6-7 selection windows (untouched seed 7741's rolling resistances).
-    """
+def _bad_starts(scene: SceneSpec, episodes: list[Episode], half: int) -> dict[int, np.ndarray]:
+    """Samples within the velocity-fit span of an impact (with a static or between bodies), or
+    before the first full span, per episode index."""
     out = {}
-    for i, side in sides.items():
-        bad = side == 2
+    for i, e in enumerate(episodes):
+        impact = (frame_labels(scene, e) == "impact").any(axis=1) | near_contact(scene, e)  # (T,)
+        bad = np.convolve(impact.astype(float), np.ones(2 * half + 3), mode="same") > 0
         bad[:half] = True  # a one-sided velocity fit at the episode start is several times noisier
         out[i] = bad
     return out
