@@ -114,3 +114,21 @@ def test_keeps_the_model_contract(tiny_batch):
     from voe.controls.random_nets import random_network
 
     check_model(random_network("interaction", 3), tiny_batch)
+
+
+def test_trace_reports_the_rolled_out_prediction_of_every_step():
+    """``rollout_nll(..., trace)`` (``bench/hidden_rollout.py``) returns, per step, the predicted
+    mean of the next frame: a constant-velocity v3 carries the hidden ball at 3 m/s."""
+    from voe.models.interaction import rollout_nll
+    from voe.models.loading import load_model
+
+    m = _persistent(load_model("interaction-v3"))
+    m.net.eval()
+    steps = []
+    with torch.no_grad():
+        rollout_nll(m.net, m.prepare(_batch([_clip(1.0, 3.0)])), steps)
+    assert len(steps) == T - 1 and steps[0][0].shape == (1, 2, 9) and steps[0][1].shape == (1, 2, 9)
+    x = torch.stack([s[0][0, 0, 0] for s in steps]).double().numpy()  # (T-1,) predicted x of frame t+1
+    np.testing.assert_allclose(np.diff(x[HIDE:BACK]), 3.0 * 0.05, atol=1e-3)
+    lv = torch.stack([s[1][0, 0, 0] for s in steps]).numpy()
+    assert (np.diff(lv[HIDE:BACK - 1]) > 0).all()  # the carried variance grows while hidden

@@ -78,12 +78,15 @@ class InteractionModule(nn.Module):
         return self.out(torch.cat([h, msg, x], -1))
 
 
-def rollout_nll(net: InteractionModule, d: dict[str, torch.Tensor]) -> torch.Tensor:
+def rollout_nll(net: InteractionModule, d: dict[str, torch.Tensor],
+                trace: list[tuple[torch.Tensor, torch.Tensor]] | None = None) -> torch.Tensor:
     """Surprise ``(B, T)`` of every frame given the frames before it (frame 0 set to 0).
 
     Frame by frame: the slot state is the observation where a slot is visible and the model's own
     prediction elsewhere; the network predicts frame t+1 from the state at t only, so the result is
-    causal by construction and each clip is processed on its own.
+    causal by construction and each clip is processed on its own. ``trace`` (diagnostics,
+    ``bench/hidden_rollout.py``): each step appends the predicted mean and log-variance of frame
+    t+1, ``(B, K, 9)`` each.
     """
     head = net.head
     obs, pres, circ_obs = d["obs"], d["present"], d["circle"]  # (B, T, K, 9), (B, T, K), (B, T, K)
@@ -116,6 +119,8 @@ def rollout_nll(net: InteractionModule, d: dict[str, torch.Tensor]) -> torch.Ten
         p_logit = (out[..., 0] + head.presence_bias()
                    + head.presence_screen(torch.stack([hid, outside], -1).to(out)).squeeze(-1))
         s_logit = head.shape_logit(out[..., 16], circ)
+        if trace is not None:
+            trace.append((mean[..., :9].detach(), lv_next.detach()))
         cost = _frame_cost(head, mean[..., :9], lv_next, p_logit, s_logit, obs[:, t + 1], pres[:, t + 1],
                            circ_obs[:, t + 1], f64)
         frames.append(cost)
