@@ -117,6 +117,35 @@ def _score_control(job: tuple[Control, Any, ControlSetup, Path], say: Callable[[
     return ctrl.name
 
 
+def stale_reason(meta: dict, ctrl: Control, manifest_sha256: str) -> str:
+    """Why a stored control run may not stand for ``ctrl`` on this probe set ('' if it may).
+
+    Why more than the probe set: a control is named, not versioned, so a stored
+    ``random-interaction-s2`` made by an older architecture (or older scoring code) would
+    otherwise keep standing in for today's, and random networks confound only models of their
+    own class (``voe.controls.confound``): a stale one silently drops those confounds.
+    """
+    import json
+
+    from voe.scoring.cache import class_code_sha256
+
+    model = meta.get("model", {})
+    if meta.get("probes", {}).get("manifest_sha256") != manifest_sha256:
+        return "scored another probe set"
+    if model.get("ref") != ctrl.model or json.dumps(model.get("args", {}), sort_keys=True, default=str) \
+            != json.dumps(dict(ctrl.args), sort_keys=True, default=str):
+        return f"was made by {model.get('ref')} {model.get('args')}, not {ctrl.model} {dict(ctrl.args)}"
+    try:
+        from voe.registry import load_ref
+
+        want = class_code_sha256(load_ref(str(model["class"])))
+    except (VoeError, ImportError, KeyError, TypeError, OSError):  # no key today: do not trust it
+        want = None
+    if not model.get("code_sha256") or model.get("code_sha256") != want:
+        return "was computed by other code (code fingerprint differs)"
+    return ""
+
+
 def run_controls(controls: Sequence[Control], probes: Path, setup: ControlSetup,
                  say: Callable[[str], None] = print, reuse: bool = True, jobs: int = 1) -> list[Path]:
     """Score every control on ``probes``; returns the run directories (one per control).
@@ -138,10 +167,11 @@ def run_controls(controls: Sequence[Control], probes: Path, setup: ControlSetup,
     todo = []
     for ctrl, out in zip(controls, runs, strict=True):
         if reuse and (out / "run.json").exists():
-            meta = json.loads((out / "run.json").read_text())
-            if meta.get("probes", {}).get("manifest_sha256") == ps.manifest_sha256:
+            stale = stale_reason(json.loads((out / "run.json").read_text()), ctrl, ps.manifest_sha256)
+            if not stale:
                 say(f"reusing the stored run of {ctrl.name}")
                 continue
+            say(f"scoring {ctrl.name} again: its stored run {stale}")
         todo.append((ctrl, Path(probes), setup, out))
     if jobs > 1 and len(todo) > 1:
         with progress(len(todo), f"controls ({jobs} at a time)", "control") as tick:

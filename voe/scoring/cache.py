@@ -68,9 +68,15 @@ def code_sha256(model: Any) -> str:
     Returns:
         64 hex characters.
     """
+    return class_code_sha256(type(model))
+
+
+def class_code_sha256(cls: type) -> str:
+    """``code_sha256`` of any instance of ``cls`` (lets a stored run be checked against today's
+    code without building its model)."""
     h = hashlib.sha256(_package().encode())
     try:
-        src = inspect.getsourcefile(type(model))
+        src = inspect.getsourcefile(cls)
     except TypeError:  # a builtin or C-extension class has no source file
         src = None
     if src and Path(src).is_file():
