@@ -123,3 +123,24 @@ def test_no_private_pool_loops_left():
     pools = [str(p.relative_to(VOE.parent)) for p in VOE.rglob("*.py")
              if p.name != "parallel.py" and any(s in p.read_text() for s in ("ProcessPoolExecutor", ".Pool("))]
     assert not pools, pools
+
+
+def _handlers(_: int) -> tuple[bool, bool]:
+    import signal
+
+    return signal.getsignal(signal.SIGTERM) == signal.SIG_DFL, signal.getsignal(signal.SIGINT) == signal.SIG_IGN
+
+
+def test_workers_end_quietly_on_sigterm_instead_of_running_the_parents_handler():
+    """The parent stops its workers with SIGTERM; a forked worker must not run the CLI's handler
+    (it raised ``Interrupted`` in the worker and printed a traceback under the one-line message)."""
+    import signal
+
+    def loud(signum, frame):  # what voe.cli.main installs
+        raise KeyboardInterrupt
+
+    old = signal.signal(signal.SIGTERM, loud)
+    try:
+        assert list(parallel_map(_handlers, [1, 2], 2, start_method="fork")) == [(True, True)] * 2
+    finally:
+        signal.signal(signal.SIGTERM, old)

@@ -70,8 +70,16 @@ def _signals_held():
 
 
 def _release_signals() -> None:
-    """Worker initializer: a forked worker inherits the held mask; it must answer signals (the
-    pool's shutdown terminates workers with SIGTERM)."""
+    """Worker initializer: a forked worker inherits the held mask and the parent's handlers.
+
+    Why both: it must answer signals (the parent stops its workers with SIGTERM when it is
+    interrupted), and answer them by ending quietly: an inherited ``voe.cli.main`` handler
+    would raise ``Interrupted`` inside the worker's queue read and print a traceback under the
+    parent's one-line message (seen in ``tests/reliability/test_kill.py``). Ctrl-C reaches the
+    whole process group; the parent alone handles it and stops the workers.
+    """
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     if hasattr(signal, "pthread_sigmask"):
         signal.pthread_sigmask(signal.SIG_UNBLOCK, _HELD)
 
