@@ -144,3 +144,33 @@ def test_workers_end_quietly_on_sigterm_instead_of_running_the_parents_handler()
         assert list(parallel_map(_handlers, [1, 2], 2, start_method="fork")) == [(True, True)] * 2
     finally:
         signal.signal(signal.SIGTERM, old)
+
+
+def test_a_signal_sent_from_another_thread_while_forking_waits_for_the_fork_to_end():
+    """The kernel may hand the signal to any thread that does not block it; the handler must
+    still not run inside the held section (it ran inside at-fork callbacks and was lost)."""
+    import os
+    import signal
+    import threading
+    import time
+
+    from voe.parallel import _signals_held
+
+    calls: list[str] = []
+
+    def handler(signum, frame):
+        calls.append("handled")
+
+    old = signal.signal(signal.SIGTERM, handler)
+    try:
+        with _signals_held():
+            t = threading.Thread(target=lambda: os.kill(os.getpid(), signal.SIGTERM))
+            t.start()
+            t.join()
+            for _ in range(200):  # bytecode boundaries where a Python handler would run
+                time.sleep(0.001)
+            calls.append("section over")
+        assert calls == ["section over", "handled"]
+        assert signal.getsignal(signal.SIGTERM) is handler
+    finally:
+        signal.signal(signal.SIGTERM, old)

@@ -22,6 +22,7 @@ import contextlib
 import itertools
 import multiprocessing as mp
 import signal
+import threading
 from collections import deque
 from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import Future, ProcessPoolExecutor
@@ -59,14 +60,25 @@ def _signals_held():
     ``KeyboardInterrupt``: the command then ran on to its end although told to stop (seen in
     CI). Held here, it is delivered at the ``with``'s end, in ordinary code.
     """
-    if not hasattr(signal, "pthread_sigmask"):  # not on Windows; there is no fork there either
-        yield
+    if not hasattr(signal, "pthread_sigmask") or threading.current_thread() is not threading.main_thread():
+        yield  # not on Windows (no fork there either); handlers can only be swapped in the main thread
         return
+    # The mask covers this thread only: with other threads alive (a progress bar's monitor, the
+    # pool's manager) the kernel hands the signal to one of them and Python still runs the handler
+    # here, at-fork callbacks included. So the handlers are swapped for a recorder too, and what
+    # it recorded is raised again, under the real handlers, once the fork is over.
+    arrived: list[int] = []
+    saved = {s: signal.signal(s, lambda signum, _frame: arrived.append(signum)) for s in _HELD}
     old = signal.pthread_sigmask(signal.SIG_BLOCK, _HELD)
     try:
         yield
     finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)  # a signal held by the mask lands in the recorder
+        for s, h in saved.items():
+            if h is not None:  # None: a handler installed from C, which Python cannot restore
+                signal.signal(s, h)
+        for s in dict.fromkeys(arrived):
+            signal.raise_signal(s)
 
 
 def _release_signals() -> None:

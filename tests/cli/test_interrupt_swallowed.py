@@ -43,3 +43,36 @@ def test_a_normal_run_is_untouched(monkeypatch):
     finally:
         for s, h in old.items():
             signal.signal(s, h)
+
+
+def test_an_interrupt_python_had_to_ignore_is_raised_again_from_ordinary_code(monkeypatch, capsys):
+    """A finalizer (here ``__del__``, in CI a cffi callback of pymunk) swallows the handler's raise;
+    the command must still stop, not print a traceback and run on."""
+    import gc
+    import sys
+    import time
+
+    class Finalized:
+        def __del__(self):
+            raise cli.Interrupted()  # what _interrupt raises, landing in a finalizer
+
+    def app():
+        Finalized()  # freed at once: its raise is "ignored"
+        gc.collect()
+        for _ in range(500):  # the command would run on to its end
+            time.sleep(0.002)
+        raise AssertionError("ran to its end")
+
+    monkeypatch.setattr(cli, "app", app)
+    monkeypatch.setattr(cli, "_INTERRUPTED", ["SIGTERM"])
+    monkeypatch.setattr(sys, "unraisablehook", sys.unraisablehook)
+    old = {s: signal.getsignal(s) for s in (signal.SIGTERM, signal.SIGINT, signal.SIGALRM)}
+    try:
+        with pytest.raises(SystemExit) as exc:
+            cli.main()
+    finally:
+        for s, h in old.items():
+            signal.signal(s, h)
+    assert exc.value.code == 130
+    err = capsys.readouterr().err
+    assert "interrupted by SIGTERM" in err and "Traceback" not in err

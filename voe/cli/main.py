@@ -59,6 +59,9 @@ def main() -> None:
     ``voe: interrupted`` line and exit code 130.
     """
     signal.signal(signal.SIGTERM, _interrupt)
+    if hasattr(signal, "setitimer"):  # not on Windows
+        signal.signal(signal.SIGALRM, _again)
+        sys.unraisablehook = _unraisable
     if signal.getsignal(signal.SIGINT) is not signal.SIG_IGN:  # a background job keeps ignoring it
         signal.signal(signal.SIGINT, _interrupt)
     try:
@@ -93,6 +96,25 @@ _INTERRUPTED: list[str] = []
 
 class Interrupted(KeyboardInterrupt):
     """SIGINT or SIGTERM, raised where the main thread is so that cleanup runs."""
+
+
+def _unraisable(hook_args: object) -> None:
+    """``sys.unraisablehook``: an ``Interrupted`` that Python had to ignore is raised again.
+
+    Why: a signal handler runs at whatever bytecode the main thread is at, and some places
+    swallow what it raises: at-fork callbacks (logging's ``_releaseLock``), finalizers, cffi
+    callbacks (pymunk's ``freebody``). The command then printed a traceback and ran on to its end.
+    Here a 10 ms timer is armed instead, whose handler (``_again``) raises it from ordinary code;
+    should that land in such a place too, this hook arms it again.
+    """
+    if isinstance(getattr(hook_args, "exc_value", None), Interrupted):
+        signal.setitimer(signal.ITIMER_REAL, 0.01)
+        return
+    sys.__unraisablehook__(hook_args)
+
+
+def _again(signum: int, frame: object) -> None:
+    raise Interrupted()
 
 
 def _interrupt(signum: int, frame: object) -> None:
