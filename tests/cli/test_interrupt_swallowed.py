@@ -14,6 +14,24 @@ import pytest
 import voe.cli.main as cli
 
 
+def _main() -> int | None:
+    """``cli.main()`` with the signal handlers and unraisable hook it installs put back after;
+    returns its exit code (``None`` if it returned)."""
+    import sys
+
+    old = {s: signal.getsignal(s) for s in (signal.SIGTERM, signal.SIGINT, signal.SIGALRM)}
+    hook = sys.unraisablehook
+    try:
+        cli.main()
+    except SystemExit as exc:
+        return exc.code
+    finally:
+        sys.unraisablehook = hook
+        for s, h in old.items():
+            signal.signal(s, h)
+    return None
+
+
 @pytest.mark.parametrize("ending", ["return", "exit0"])
 def test_swallowed_signal_exits_130(monkeypatch, capsys, ending):
     def app():
@@ -23,33 +41,20 @@ def test_swallowed_signal_exits_130(monkeypatch, capsys, ending):
 
     monkeypatch.setattr(cli, "app", app)
     monkeypatch.setattr(cli, "_INTERRUPTED", [])
-    old = {s: signal.getsignal(s) for s in (signal.SIGTERM, signal.SIGINT)}
-    try:
-        with pytest.raises(SystemExit) as exc:
-            cli.main()
-    finally:
-        for s, h in old.items():
-            signal.signal(s, h)
-    assert exc.value.code == 130
+    assert _main() == 130
     assert "SIGTERM arrived where it could not stop the command" in capsys.readouterr().err
 
 
 def test_a_normal_run_is_untouched(monkeypatch):
     monkeypatch.setattr(cli, "app", lambda: None)
     monkeypatch.setattr(cli, "_INTERRUPTED", [])
-    old = {s: signal.getsignal(s) for s in (signal.SIGTERM, signal.SIGINT)}
-    try:
-        cli.main()
-    finally:
-        for s, h in old.items():
-            signal.signal(s, h)
+    assert _main() is None
 
 
 def test_an_interrupt_python_had_to_ignore_is_raised_again_from_ordinary_code(monkeypatch, capsys):
     """A finalizer (here ``__del__``, in CI a cffi callback of pymunk) swallows the handler's raise;
     the command must still stop, not print a traceback and run on."""
     import gc
-    import sys
     import time
 
     class Finalized:
@@ -65,14 +70,6 @@ def test_an_interrupt_python_had_to_ignore_is_raised_again_from_ordinary_code(mo
 
     monkeypatch.setattr(cli, "app", app)
     monkeypatch.setattr(cli, "_INTERRUPTED", ["SIGTERM"])
-    monkeypatch.setattr(sys, "unraisablehook", sys.unraisablehook)
-    old = {s: signal.getsignal(s) for s in (signal.SIGTERM, signal.SIGINT, signal.SIGALRM)}
-    try:
-        with pytest.raises(SystemExit) as exc:
-            cli.main()
-    finally:
-        for s, h in old.items():
-            signal.signal(s, h)
-    assert exc.value.code == 130
+    assert _main() == 130
     err = capsys.readouterr().err
     assert "interrupted by SIGTERM" in err and "Traceback" not in err
