@@ -361,3 +361,21 @@ def test_a_dropped_winner_is_replaced_by_the_next_member_of_its_group():
     np.testing.assert_array_equal(alone.params, [1.4, 1.0, 1.9])
     assert _alternative(s, rnd, {"spring_anchor", "point_attractor"}, None, (np.zeros(0),)) is None
     assert _alternative(s, None, set(), None, (np.zeros(0),)) is None
+
+
+def test_explanation_does_not_claim_a_cut_when_the_test_error_rises():
+    """Untouched case 3629063: a friction patch accepted on the selection episodes raised the test
+    error from 0.0106 to 0.0351 m, and the text said it "cuts the error ... (-231 % less)"."""
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from voe.gap.verify import explain
+
+    eff = {"summary": "a patch", "name": "friction_region", "params": {"mu": 0.5}, "interval95": {"mu": [0.4, 0.6]}}
+    for after, cut in ((0.002, True), (0.0351, False)):
+        ver = SimpleNamespace(rmse_before=0.0106, rmse_after=after, position_rmse_before=0.01, position_rmse_after=after,
+                              looks_like_noise=False, flagged_after=0.3)
+        text = explain("mismatch", [eff], [["friction_region"]], [], ver, 0.05, np.full((2, 3), 1e-3), "test", 17.0)
+        assert ("cuts the error" in text) == cut and ("less" in text) == cut
+        assert ("does not carry over to the test episodes" in text) != cut

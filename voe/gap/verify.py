@@ -116,10 +116,17 @@ def explain(verdict: str, effects: list[dict], groups: list[list[str]], located:
         ps = ", ".join(f"{k} = {_value(v, *e['interval95'][k])}" for k, v in e["params"].items())
         parts.append(f"{e['summary']}: {e['name']} ({ps}) was missing")
     drop = 100 * (1 - ver.rmse_after / ver.rmse_before) if ver.rmse_before > 0 else 0.0
-    text = "; ".join(parts) + (
-        f". Adding {'them' if len(effects) > 1 else 'it'} cuts the error (RMSE of x, y and angle x sqrt(I/m)) on "
-        f"{test_note} from {ver.rmse_before:.3g} m to {ver.rmse_after:.3g} m ({drop:.0f} % less; position only "
-        f"{ver.position_rmse_before:.3g} m to {ver.position_rmse_after:.3g} m).")
+    them = "them" if len(effects) > 1 else "it"
+    errs = (f"(RMSE of x, y and angle x sqrt(I/m)) on {test_note} from {ver.rmse_before:.3g} m to "
+            f"{ver.rmse_after:.3g} m")
+    pos = f"position only {ver.position_rmse_before:.3g} m to {ver.position_rmse_after:.3g} m"
+    if drop > 0:
+        text = "; ".join(parts) + f". Adding {them} cuts the error {errs} ({drop:.0f} % less; {pos})."
+    else:  # chosen and accepted on the selection episodes, not borne out on the test ones: say so
+        text = "; ".join(parts) + (
+            f". But adding {them} does not cut the error {errs} ({-drop:.0f} % more; {pos}): what was fitted "
+            f"on the fitting and selection episodes does not carry over to the test episodes, so treat "
+            f"{them} as a lead to check, not a finding.")
     if located:
         ctxs = sorted({x["context"].split()[0] for x in located})
         text += f" The mismatch was located in {len(located)} stretch(es), context: {', '.join(ctxs)}."
