@@ -87,7 +87,7 @@ def check_step(p: Problem, loc: Location, s: Search, config: GapConfig, seed: in
         dropped.append(drop)
     if model is None:
         lo = hi = np.zeros(0)
-    ver, note = _test(p, model, config, loc.z_threshold)
+    ver, note = verify_on_test(p, model, config, loc.z_threshold)
     nominal = model.effect.nominal(ctx) if model is not None else np.zeros(0)
     return Checked(model, tuple(keys), lo, hi, tuple(dropped), ver, note, nominal)
 
@@ -123,8 +123,9 @@ def _alternative(s: Search, rnd: Round | None, tried: set[str], rest: Effect | N
     return None
 
 
-def _test(p: Problem, model: FitResult | None, config: GapConfig, z_thr: float) -> tuple[Verification, str]:
-    """Simulate the test episodes (each fold's own episode and parameters in cross-validation)."""
+def verify_on_test(p: Problem, model: FitResult | None, config: GapConfig, z_thr: float) -> tuple[Verification, str]:
+    """Simulate the test episodes (each fold's own episode and parameters in cross-validation); the
+    one test step that the acceptance checks (`check`) and the drift checks (`drift`) share."""
     effect = model.effect if model is not None else None
     if p.split.cross_validated:
         pairs = [(w, None if model is None else model.fold_params[k])

@@ -35,7 +35,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.optimize import least_squares
 
-from voe.gap.check import Checked, _test
+from voe.gap.check import Checked, verify_on_test
 from voe.gap.effects.base import Effect, EffectSum, FitContext
 from voe.gap.folds import as_sum, without
 from voe.gap.prefit import FlightSamples, _missing
@@ -208,7 +208,7 @@ def drift_step(p: Problem, loc: Location, s: Search, c: Checked, config: GapConf
             model, keys = None, []
     if model is None:
         lo = hi = np.zeros(0)
-    ver, note = _test(p, model, config, loc.z_threshold)
+    ver, note = verify_on_test(p, model, config, loc.z_threshold)
     nominal = model.effect.nominal(ctx) if model is not None else np.zeros(0)
     return replace(c, model=model, keys=tuple(keys), lower=lo, upper=hi, dropped=tuple(dropped), verification=ver,
                    test_note=note, nominal=nominal)
