@@ -142,8 +142,9 @@ def test_tie_break_uses_windows_where_predictions_differ():
     cands = {k: EFFECTS.get(k)() for k in ("linear_drag", "quadratic_drag")}
     results = {k: fitter.fit_candidate(None, e) for k, e in cands.items()}
     gains = {"linear_drag": 0.5, "quadratic_drag": 0.52}  # pretend the wrong one is ahead by a hair
-    best, group, basis = tie_break(fitter, list(cands), results, cands, {"flight"}, gains, float(sigma[0, 0]))
+    best, group, basis, tie = tie_break(fitter, list(cands), results, cands, {"flight"}, gains, float(sigma[0, 0]))
     assert best == "linear_drag" and "predictions differ" in basis
+    assert tie is not None and f"on the {tie.n_differ} selection windows" in basis
 
 
 def test_null_runs_the_same_rounds_forcing_in_its_best_candidate():
@@ -299,16 +300,16 @@ def test_explanation_says_when_a_tie_break_rests_on_too_few_windows():
 
     import numpy as np
 
+    from voe.gap.search import TieBreak
     from voe.gap.verify import explain
 
     ver = SimpleNamespace(rmse_before=0.01, rmse_after=0.002, position_rmse_before=0.01, position_rmse_after=0.002,
                           looks_like_noise=True, flagged_after=0.0)
     eff = {"summary": "drag", "name": "rolling_resistance", "params": {"c_rr": 0.0015}, "interval95": {"c_rr": [0.001, 0.002]}}
     args = ("mismatch", [eff], [["rolling_resistance", "linear_drag"]], [], ver, 0.05, np.full((2, 3), 1e-3), "test", 17.0)
-    few = explain(*args, bases=["chosen on the 2 selection windows where the group's predictions differ; too few to "
-                                "rule out linear_drag (one-sided sign test p > 0.05)"])
+    few = explain(*args, ties=[TieBreak(2, ("linear_drag",))])
     assert "there are 2 of them, too few to rule out linear_drag" in few
-    many = explain(*args, bases=["chosen on the 12 selection windows where the group's predictions differ"])
+    many = explain(*args, ties=[TieBreak(12)])
     assert "too few" not in many and "fits best on the windows where their predictions differ." in many
 
 

@@ -156,7 +156,7 @@ class GapFinder:
         best = max(r0.gains.items(), key=lambda kv: kv[1]) if r0 and r0.gains else None
         return explain(self.verdict_, self.effects_, self.groups_, self.located_, self.checked_.verification,
                        self.threshold_, self.problem_.sigma, self.checked_.test_note, self._z_bar(),
-                       self.checked_.dropped, best, [r.basis for r in self._kept_rounds()],
+                       self.checked_.dropped, best, [r.tie for r in self._kept_rounds()],
                        self.location_.departure_p)
 
     def to_dict(self) -> dict:

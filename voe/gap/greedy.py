@@ -89,12 +89,12 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
                 rounds[trial.index] = trial.undone
                 current, keys = trial.current, keys[:-1]
             break
-        winner, kept, basis = (group[0], (group[0],), "alone") if len(group) == 1 else \
+        winner, kept, basis, tie = (group[0], (group[0],), "alone", None) if len(group) == 1 else \
             tie_break(fitter, group, results, pool, contexts, gains, noise)
         plain = pool[winner].global_name
         if plain in results and gains[plain] > thr and lower.get(plain, 1.0) > 0 and covers_contacts(fitter, results[winner]):
             kept = (plain,) + tuple(k for k in kept if k != plain)
-            winner, basis = plain, f"{winner}'s interval holds every contact: named {plain}, the whole floor"
+            winner, basis, tie = plain, f"{winner}'s interval holds every contact: named {plain}, the whole floor", None
         if trial is not None:
             if not trial.confirmed(results[winner].window_sse, q):
                 rounds.append(Round(before, results, gains, lower, thr, basis=trial.refused(winner)))
@@ -105,7 +105,7 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
             trial = None
         if provisional:
             basis = f"{basis}; provisional: its gain's {100 * q:.0f} % bootstrap quantile is not positive"
-        rounds.append(Round(before, results, gains, lower, thr, winner, kept, basis))
+        rounds.append(Round(before, results, gains, lower, thr, winner, kept, basis, tie))
         if provisional:
             trial = Trial(len(rounds) - 1, current, before_sse, thr, rounds[-1])
         pool.pop(winner)  # the group's other members stay candidates

@@ -100,6 +100,7 @@ class Round:
     winner: str | None = None
     group: tuple[str, ...] = ()
     basis: str = ""
+    tie: TieBreak | None = None
 
     def to_dict(self) -> dict:
         return {"before": self.before, "threshold_gain": self.threshold, "winner": self.winner,
@@ -192,8 +193,19 @@ def sign_p(d: np.ndarray) -> float:
     return float(binomtest(int(np.floor(wins)), n, 0.5, alternative="greater").pvalue) if n else 1.0
 
 
+@dataclass(frozen=True)
+class TieBreak:
+    """How a tied group was decided on data: on ``n_differ`` selection windows where its members'
+    predictions differ, ``unproven`` being the members a one-sided sign test could not rule out
+    (the explanation says so in words; ``Round.basis`` keeps the same facts as text for gap.json)."""
+
+    n_differ: int
+    unproven: tuple[str, ...] = ()
+
+
 def tie_break(fitter: FoldedFitter, group: list[str], results: dict[str, FitResult], candidates: dict[str, Effect],
-              contexts: set[str], gains: dict[str, float], noise: float) -> tuple[str, tuple[str, ...], str]:
+              contexts: set[str], gains: dict[str, float],
+              noise: float) -> tuple[str, tuple[str, ...], str, TieBreak | None]:
     """Winner of a group whose selection errors are within ``GROUP_TOL``.
 
     Members are compared on the selection windows where some pair's predictions differ by more
@@ -220,9 +232,9 @@ def tie_break(fitter: FoldedFitter, group: list[str], results: dict[str, FitResu
         basis = f"chosen on the {int(differ.sum())} selection windows where the group's predictions differ"
         if unproven:
             basis += (f"; too few to rule out {', '.join(sorted(unproven))} (one-sided sign test p > {TIE_ALPHA:g})")
-        return best, kept, basis
+        return best, kept, basis, TieBreak(int(differ.sum()), tuple(sorted(unproven)))
     ranked = sorted(group, key=lambda k: (0 if context_match(candidates[k].contexts, contexts) else 1, -gains[k]))
-    return ranked[0], tuple(ranked), "predictions differ in no selection window; named by the located context"
+    return ranked[0], tuple(ranked), "predictions differ in no selection window; named by the located context", None
 
 
 COVER = 0.99  # a region holding this share of the contact samples is no region

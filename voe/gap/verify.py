@@ -7,13 +7,16 @@ residual still exceeds the located threshold, say whether what is left looks lik
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from voe.gap.effects.base import Effect
 from voe.gap.shooting import Shooter, Window, position_rmse, rmse, window_score
+
+if TYPE_CHECKING:  # an annotation only: no import of the search machinery at run time
+    from voe.gap.search import TieBreak
 
 
 @dataclass(frozen=True)
@@ -82,7 +85,7 @@ def _value(v: float, lo: float, hi: float) -> str:
 
 def explain(verdict: str, effects: list[dict], groups: list[list[str]], located: list[dict], ver: Verification,
             threshold: float, sigma: np.ndarray, test_note: str, z_strong: float, dropped: tuple[dict, ...] = (),
-            best: tuple[str, float] | None = None, bases: list[str] | None = None,
+            best: tuple[str, float] | None = None, ties: list[TieBreak | None] | None = None,
             departure_p: float | None = None) -> str:
     """A short paragraph with the numbers that matter; it never claims agreement next to a mismatch."""
     noise_mm = 1e3 * float(np.median(sigma[:, :2]))
@@ -130,14 +133,12 @@ def explain(verdict: str, effects: list[dict], groups: list[list[str]], located:
     if located:
         ctxs = sorted({x["context"].split()[0] for x in located})
         text += f" The mismatch was located in {len(located)} stretch(es), context: {', '.join(ctxs)}."
-    for g, basis in zip(groups, bases or [""] * len(groups), strict=True):
-        if len(g) > 1 and basis.startswith("chosen on"):
-            few = "; too few to rule out" in basis
-            n_differ = re.search(r"on the (\d+) selection", basis)
+    for g, tie in zip(groups, ties or [None] * len(groups), strict=True):
+        if len(g) > 1 and tie is not None:
             text += (f" {' and '.join(g)} fit the selection windows within 10 % of each other; {g[0]} fits best on "
                      f"the windows where their predictions differ" +
-                     (f", but there are {n_differ.group(1) if n_differ else 'few'} of them, too few to rule out {' and '.join(g[1:])}."
-                      if few else "."))
+                     (f", but there are {tie.n_differ} of them, too few to rule out {' and '.join(g[1:])}."
+                      if tie.unproven else "."))
         elif len(g) > 1:
             text += f" The data cannot tell apart {' and '.join(g)} (selection errors within 10 %); {g[0]} is named first."
     text += (" The remaining residuals look like noise." if ver.looks_like_noise else
