@@ -14,6 +14,7 @@ control's model is obtained:
 
 from __future__ import annotations
 
+import json
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -125,8 +126,6 @@ def stale_reason(meta: dict, ctrl: Control, manifest_sha256: str) -> str:
     otherwise keep standing in for today's, and random networks confound only models of their
     own class (``voe.controls.confound``): a stale one silently drops those confounds.
     """
-    import json
-
     from voe.scoring.cache import class_code_sha256
 
     model = meta.get("model", {})
@@ -153,8 +152,6 @@ def run_controls(controls: Sequence[Control], probes: Path, setup: ControlSetup,
     With ``jobs`` > 1 the controls are built and scored in that many processes (each control's
     run is independent), with one progress bar over controls instead of one per control.
     """
-    import json
-
     from voe.io.probeset import load_probe_set
     from voe.parallel import parallel_map
     from voe.progress import progress

@@ -157,7 +157,7 @@ def score_probe_set(model: Any, probes: ProbeSet | str | Path, out: Path, *, mod
     by_id = mine if ranks.world == 1 else _merge(sched, blinder, cache)
     index, nll = assemble(ps.index, by_id)
     meta = {
-        "model": {"ref": ref, "class": f"{type(model).__module__}:{type(model).__qualname__}",
+        "model": {"ref": ref, "class": fields["class"],
                   "args": dict(model_args or {}), "name": name,
                   "observation": str(getattr(model, "observation", "")),
                   "checkpoint": portable_ref(checkpoint, out) if checkpoint else None, "checkpoint_sha256": ck_sha,

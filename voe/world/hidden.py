@@ -22,7 +22,7 @@ import numpy as np
 from voe.concepts.parts import FLOOR_Y, G, screen
 from voe.sim.scene import Body, Occluder, Segment
 
-CEILING = 7.0  # screens stay below the distractor lane (as ``sampler.CEILING``)
+CEILING = 7.0  # main events and screens stay below the distractor lane (``sampler`` uses it too)
 
 #: Probability of each hidden event, given that a scene has one.
 HIDDEN_EVENTS = {"toss": 0.4, "wall": 0.3, "collide": 0.3}

@@ -16,11 +16,10 @@ import numpy as np
 from voe.concepts.base import Concept
 from voe.concepts.parts import FLOOR_Y, floor, screen
 from voe.sim.scene import Body, Occluder, Scene, Segment, SimConfig
-from voe.world.hidden import hidden_event
+from voe.world.hidden import CEILING, hidden_event  # main events stay below the distractor lane
 
 #: Probability of each motion a main object starts with.
 MOTIONS = {"slide": 0.3, "drop": 0.2, "throw": 0.2, "shelf": 0.1, "ramp": 0.1, "rest": 0.1}
-CEILING = 7.0  # main events stay below the distractor lane
 #: Probability, when hidden events are asked for, that a scene's first main object(s) take part
 #: in an event behind a screen (``voe.world.hidden``): free flight, a bounce off a wall, a collision.
 #: Off by default: measured on dev seeds 4077 and 5309 it did not help ``interaction-v3`` (README).
