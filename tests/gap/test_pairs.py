@@ -18,9 +18,17 @@ def _key(effect) -> str:
     return "+".join(sorted(e.name for e in effect.parts))
 
 
+class _Shooter:
+    def __init__(self, moves: dict[str, np.ndarray]) -> None:
+        self.moves = moves
+
+    def residuals(self, windows, effect, params) -> list[np.ndarray]:
+        return [self.moves[_key(effect) if effect is not None else ""]]
+
+
 class _Fold:
-    def __init__(self, costs: dict[str, float]) -> None:
-        self.costs = costs
+    def __init__(self, costs: dict[str, float], moves: dict[str, np.ndarray]) -> None:
+        self.costs, self.shooter, self.train = costs, _Shooter(moves), [None]
 
     def cost(self, effect, params) -> float:
         return self.costs[_key(effect)]
@@ -29,8 +37,10 @@ class _Fold:
 class _TableFitter:
     """Selection errors per window and training costs from tables keyed by the effects' names."""
 
-    def __init__(self, sse: dict[str, np.ndarray], costs: dict[str, float]) -> None:
-        self.sse, self.folds, self.refits = sse, [_Fold(costs)], []
+    def __init__(self, sse: dict[str, np.ndarray], costs: dict[str, float],
+                 moves: dict[str, np.ndarray] | None = None) -> None:
+        moves = moves or {"": np.zeros(4), **{k: 10.0 * np.eye(4)[i] for i, k in enumerate(costs)}}  # all distinct
+        self.sse, self.folds, self.refits = sse, [_Fold(costs, moves)], []
 
     def refit(self, effect, fold_starts, max_nfev=None) -> FitResult:
         self.refits.append(_key(effect))
@@ -65,3 +75,22 @@ def test_the_pair_threshold_is_never_below_the_rounds_single_threshold():
     null_pair = Pair(("linear_drag", "quadratic_drag"), _single("linear_drag", np.full(W, 0.49)), 0.3)
     thr = pair_threshold(null_pair, base, 0.1, 0.05)
     assert thr >= 0.3 and thr >= window_gain(base, np.full(W, 0.49)) - 1e-12
+
+
+def test_of_two_fits_that_predict_the_same_motion_the_simpler_is_paired():
+    # 3629057: an attractor, a far spring and a constant acceleration all modelled the wind
+    base = np.ones(W)
+    names = ("point_attractor", "constant_acceleration", "linear_drag", "angular_damping")
+    costs = dict(zip(names, (10.0, 12.0, 14.0, 20.0), strict=True))
+    wind = np.array([5.0, 5.0, 0.0, 0.0])
+    moves = {"": np.zeros(4), "point_attractor": wind + 1.0, "constant_acceleration": wind,
+             "linear_drag": np.array([5.0, -5.0, 0.0, 0.0]), "angular_damping": np.array([0.0, 0.0, 1.0, 0.0])}
+    sse = {k: np.full(W, 1.2) for k in names}
+    for i, a in enumerate(names):
+        for b in names[i + 1:]:
+            sse["+".join(sorted((a, b)))] = np.full(W, 0.8)
+    sse["angular_damping+constant_acceleration"] = np.full(W, 0.01)
+    fitter = _TableFitter(sse, costs, moves)
+    pair = best_pair(fitter, {k: _single(k, sse[k]) for k in names}, None, base)
+    assert pair is not None and set(pair.keys) == {"constant_acceleration", "angular_damping"}
+    assert not any("point_attractor" in k for k in fitter.refits)  # redundant with the simpler wind
