@@ -15,7 +15,11 @@ and each object's surprise at frame t is ``-log p(o_t | o_<t)`` under the mixtur
 the hypotheses' posteriors given that object's earlier frames (each object has its own
 elasticity; two objects that hit each other are simulated with the same one, an approximation).
 The first bounce is thus judged against every restitution the world allows, and later bounces
-against the restitution the object has shown. Friction is a fixed model argument.
+against the restitution the object has shown. The simulated grid is refined by interpolation,
+clip by clip, until neighbouring hypotheses are within half an observation cell of each other
+on every observed frame (``voe.models.hypotheses``); an object coming back from behind a screen
+is scored with at least that much noise (``statelik.RETURN_FLOOR``). Friction is a fixed model
+argument.
 """
 
 from __future__ import annotations
