@@ -6,9 +6,14 @@ priors and noise), but only the *true* effect is fitted, exactly as the search f
 (fit on the fitting windows' subsample, then the refine step), and the interval is computed as
 the finder does (``voe.gap.uncertainty``). It prints the coverage of the window bootstrap, the
 episode bootstrap, and the smallest inflation factor of the episode bootstrap that covers the
-target share, i.e. the figure ``voe.gap.uncertainty.INFLATE`` records. Dev seeds only (0..99).
+target share, i.e. the figure ``voe.gap.uncertainty.INFLATE`` records, and the window bootstrap
+both centred on the fit and shifted to the whole sample's one-step estimate
+(``voe.gap.uncertainty.SHIFT``), each factor with its median interval width. Dev seeds only
+(0..99), or ``--case-seeds``: cases of a development bench seed by id (seed * 1000 + index, truth
+as the bench's cycle gives it), e.g. the identified cases whose intervals missed on 3629.
 
     python bench/gap_coverage.py --seeds 0-3 --truths friction,restitution --jobs 2
+    python bench/gap_coverage.py --case-seeds 3629015,3629041
 """
 
 from __future__ import annotations
