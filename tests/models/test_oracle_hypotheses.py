@@ -22,8 +22,8 @@ def _state(x: float, y: float = 1.0, vx: float = 0.0) -> np.ndarray:
     return s
 
 
-def test_return_noise_is_floored_at_half_a_cell():
-    """Returns that all land exactly where predicted must not make the fit claim a point mass."""
+def test_return_and_impact_noise_is_floored_at_half_a_cell():
+    """Returns and bounces that all land exactly where predicted must not make the fit claim a point mass."""
     T, K, B = 12, 1, 6
     states = np.stack([np.stack([_state(1.0 + 0.1 * t + 0.01 * b) for t in range(T)]) for b in range(B)])[:, :, None]
     present = np.ones((B, T, K), dtype=bool)
@@ -34,12 +34,16 @@ def test_return_noise_is_floored_at_half_a_cell():
     mean = np.nan_to_num(states[..., idx])  # a perfect predictor
     kind = sl.slot_kind(np.cumsum(present, axis=1) > 0, present)
     kind[:, 9:] = sl.RETURNING  # enough returns for a fit (>= 5 per clip set)
-    noise = sl.fit_noise(batch, mean, kind, np.ones((B, T, K), dtype=bool))
-    for f, q, v in zip(sl.CONT, sl.QUANTUM, noise.sigma_return, strict=True):
-        if f in sl.CONSTANT:
-            assert v < q / 2, f  # a look is carried unchanged: its fit stands
-        else:
-            assert v == q / 2, f
+    hit = np.zeros((B, T, K), dtype=bool)
+    hit[:, 1:3] = True  # bounces, predicted exactly by the best elasticity after the fact
+    noise = sl.fit_noise(batch, mean, kind, np.ones((B, T, K), dtype=bool), hit)
+    for sig in (noise.sigma_return, noise.sigma_contact):
+        for f, q, v in zip(sl.CONT, sl.QUANTUM, sig, strict=True):
+            if f in sl.CONSTANT:
+                assert v < q / 2, f  # a look is carried unchanged: its fit stands
+            else:
+                assert v == q / 2, f
+    assert noise.sigma[0] < sl.QUANTUM[0] / 2  # one frame from an observed state: no floor
 
 
 def test_refined_neighbours_differ_by_at_most_the_return_floor():
