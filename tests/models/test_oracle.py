@@ -7,6 +7,7 @@ import pytest
 
 from voe.concepts import get_concept
 from voe.io.batch import Batch
+from voe.models import statelik as sl
 from voe.models.oracle import ELASTICITY_GRID, PhysicsOracle, mixture_nll
 from voe.sim.scene import FEATURE_NAMES, SimConfig
 
@@ -56,6 +57,23 @@ def test_infers_elasticity_from_the_first_bounce(energy_sets):
 def test_finds_the_too_high_bounce_more_surprising(energy_sets):
     oracle = PhysicsOracle()
     for m in energy_sets:
-        pos, imp = (cl.rec for cl in m.clips)
+        pos, imp = (cl.rec for cl in m.clips[:2])
         nll = oracle.frame_nll(_batch([pos, imp]))
         assert np.nansum(nll[1]) > np.nansum(nll[0]), m.set_index
+
+
+def test_a_clips_surprise_does_not_depend_on_its_batch(energy_sets):
+    """Each clip refines its own hypotheses (voe.models.hypotheses), so batching changes nothing."""
+    oracle = PhysicsOracle()
+    recs = [cl.rec for m in energy_sets[:2] for cl in m.clips]
+    together = oracle.frame_nll(_batch(recs))
+    alone = np.concatenate([oracle.frame_nll(_batch([r])) for r in recs])
+    np.testing.assert_array_equal(together, alone)
+
+
+def test_calibration_scores_each_object_under_its_best_hypothesis(energy_sets):
+    oracle = PhysicsOracle()
+    noise = oracle.calibrate(_batch([m.clips[0].rec for m in energy_sets]))
+    # followed frame by frame from its best hypothesis, a ball is predicted within a cell
+    assert noise.sigma[0] < 0.01 and noise.sigma[1] < 0.01
+    assert all(v >= f for v, f in zip(noise.sigma_return, sl.RETURN_FLOOR, strict=True))

@@ -56,8 +56,9 @@ class LesionedOracle(PhysicsOracle):
         """Slots whose memory is dropped after frame t: ``(K,)`` bool."""
         return self.law.forget(present_t)
 
-    def _predict(self, batch: Batch):
-        return self.law.predict(self, *super()._predict(batch))
+    def _predict(self, one: Batch, grid=None):
+        *pred, log_prior = super()._predict(one, grid)
+        return (*self.law.predict(self, *pred), log_prior)
 
     def _shape_prior(self, kind: np.ndarray) -> np.ndarray | None:
         return self.law.shape_prior(kind)

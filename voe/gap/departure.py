@@ -10,7 +10,21 @@ half the time. Physics that is really missing (a gusting wind, a floor patch, a 
 raises many windows, not one. So the departure is also tested as a whole: a one-sided Wilcoxon
 signed-rank test on the paired log z-scores of the same windows in the data and in the clean
 replicate (same start states, same noise model, so under the nominal model the pairs are
-exchangeable and the test's level is honest without any tuning)."""
+exchangeable and the test's level is honest without any tuning).
+
+A test that only swaps pairs cannot give a p-value below 2^-k when k pairs depart, whatever
+their size, and the signed-rank test dilutes k large departures among many unaffected windows.
+Physics confined to a place (a floor patch the box slides over once, early in an episode) raises
+one 1-s window per episode it touches: development case 3629067 had six windows at z 11-124
+against a replicate whose largest was 3.4, and the signed-rank p was 0.033, so a 0.14 m error was
+called consistent. So the departure is tested by two statistics, Bonferroni-combined: the
+signed-rank test on the 1-s windows (many windows raised a little), and a paired randomisation
+test of how many data windows exceed every replicate window (a few raised far beyond anything
+clean data shows; ``tail_p``), on half-second windows (``WINDOW``: twice the pairs for the same
+stretch, so six touched episodes can reach p < 0.01). The signed-rank test stays on 1-s windows:
+on short windows it also detects a small, even noise-level difference between data and replicate
+(development clean case 7741013: signed-rank p 0.003 on half-second windows, 0.07 on 1-s ones),
+which is not missing physics."""
 
 from __future__ import annotations
 
@@ -18,15 +32,24 @@ import numpy as np
 from scipy.stats import ttest_1samp, wilcoxon
 
 ALPHA = 0.01  # one located case in a hundred clean ones may be called unexplained
+WINDOW = 0.5  # s, windows of the tail count (see above)
+N_PERM = 2000  # random pair swaps of ``tail_p``: its smallest p-value is 1/2001
 
 
-def departure_p(z_data: np.ndarray, z_null: np.ndarray) -> float:
-    """One-sided p-value that the data's window z-scores (W,) exceed the replicate's (W,), paired.
+def departure_p(z_data: np.ndarray, z_null: np.ndarray, short: tuple[np.ndarray, np.ndarray] | None = None) -> float:
+    """One-sided p-value that the data's window z-scores (W,) exceed the replicate's (W,), paired:
+    the smaller of the signed-rank and the tail-count (``tail_p``) p-values, doubled. ``short``:
+    the data's and the replicate's z-scores (W', each) on the half-second windows the tail count
+    uses (default: the same windows).
 
     The signed-rank test needs ten pairs or more (with n pairs its smallest p-value is 2^-n);
     with fewer, a one-sided t-test on the log ratios (symmetric under the nominal model, so the
     test is at worst conservative for heavy tails). 1.0 with fewer than three pairs.
     """
+    return min(1.0, 2.0 * min(_signed_rank_p(z_data, z_null), tail_p(*(short or (z_data, z_null)))))
+
+
+def _signed_rank_p(z_data: np.ndarray, z_null: np.ndarray) -> float:
     d = np.log(np.maximum(z_data, 1e-6)) - np.log(np.maximum(z_null, 1e-6))  # (W,)
     d = np.nan_to_num(d, nan=0.0, posinf=1e6, neginf=-1e6)  # a diverged data window counts, hugely
     d = d[d != 0]
@@ -37,3 +60,22 @@ def departure_p(z_data: np.ndarray, z_null: np.ndarray) -> float:
     if np.ptp(d) == 0:
         return 0.0 if d[0] > 0 else 1.0
     return float(ttest_1samp(d, 0.0, alternative="greater").pvalue)
+
+
+def tail_p(z_data: np.ndarray, z_null: np.ndarray, n_perm: int = N_PERM, seed: int = 0) -> float:
+    """One-sided randomisation p-value of T, the number of windows whose data z (W,) exceeds the
+    replicate's largest window z (W,), under random swaps within pairs (the nominal model makes
+    each pair exchangeable, whatever the windows' chaos). 1.0 when T = 0 or with fewer than three
+    pairs. Why: it counts departures beyond anything clean data shows, which the signed-rank
+    test caps at their rank."""
+    zd = np.nan_to_num(np.asarray(z_data, dtype=float), nan=0.0, posinf=1e300)  # (W,) a diverged window counts
+    zn = np.nan_to_num(np.asarray(z_null, dtype=float), nan=0.0, posinf=1e300)
+    if len(zd) < 3:
+        return 1.0
+    t_obs = int(np.sum(zd > zn.max()))
+    if t_obs == 0:
+        return 1.0
+    swap = np.random.default_rng(seed).random((n_perm, len(zd))) < 0.5  # (N, W)
+    a, b = np.where(swap, zn, zd), np.where(swap, zd, zn)
+    t = np.sum(a > b.max(axis=1, keepdims=True), axis=1)  # (N,)
+    return float((1 + np.sum(t >= t_obs)) / (n_perm + 1))

@@ -18,6 +18,7 @@ import pandas as pd
 
 from voe.errors import DataError
 from voe.gap.context import frame_labels, near_contact
+from voe.gap.departure import WINDOW as DEPARTURE_WINDOW
 from voe.gap.departure import departure_p
 from voe.gap.effects import EFFECTS
 from voe.gap.effects.base import Effect, FitContext
@@ -110,12 +111,16 @@ def locate_step(p: Problem, config: GapConfig, rng: np.random.Generator) -> Loca
     """Window z-scores of the data against a clean replicate's; located stretches."""
     windows = make_windows(p.episodes, list(range(len(p.episodes))), config.locate_window, bad_start=p.bad)
     null_eps = null_like(p.scene, p.episodes, p.sigma, rng, p.substep, p.phi)
-    z_null = window_z(Shooter(p.scene, null_eps, p.substep, p.half), windows, p.sigma).max(axis=(1, 2))  # (W,)
+    null_shooter = Shooter(p.scene, null_eps, p.substep, p.half)
+    z_null = window_z(null_shooter, windows, p.sigma).max(axis=(1, 2))  # (W,)
     z_thr = float(max(config.z_min, np.quantile(z_null, 0.95)))
     z_strong = float(max(config.z_min, np.max(z_null)))
     z = window_z(p.shooter, windows, p.sigma)
     located = [x.to_dict() for x in locate(p.shooter, windows, z, z_thr)]
-    return Location(windows, located, z_thr, z_strong, null_eps, departure_p(z.max(axis=(1, 2)), z_null))
+    dep = make_windows(p.episodes, list(range(len(p.episodes))), DEPARTURE_WINDOW, bad_start=p.bad)  # (voe.gap.departure)
+    short = (window_z(p.shooter, dep, p.sigma).max(axis=(1, 2)), window_z(null_shooter, dep, p.sigma).max(axis=(1, 2)))
+    p_dep = departure_p(z.max(axis=(1, 2)), z_null, short)
+    return Location(windows, located, z_thr, z_strong, null_eps, p_dep)
 
 
 def search_step(p: Problem, loc: Location, config: GapConfig, max_effects: int, seed: int, n_jobs: int = 1,

@@ -15,7 +15,11 @@ and each object's surprise at frame t is ``-log p(o_t | o_<t)`` under the mixtur
 the hypotheses' posteriors given that object's earlier frames (each object has its own
 elasticity; two objects that hit each other are simulated with the same one, an approximation).
 The first bounce is thus judged against every restitution the world allows, and later bounces
-against the restitution the object has shown. Friction is a fixed model argument.
+against the restitution the object has shown. The simulated grid is refined by interpolation,
+clip by clip, until neighbouring hypotheses are within half an observation cell of each other
+on every observed frame (``voe.models.hypotheses``); an object coming back from behind a screen
+is scored with at least that much noise (``statelik.RETURN_FLOOR``). Friction is a fixed model
+argument.
 """
 
 from __future__ import annotations
@@ -23,15 +27,18 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
-from scipy.special import logsumexp
 
 from voe.errors import ModelContractError
 from voe.io.batch import Batch
 from voe.models import statelik as sl
+from voe.models.hypotheses import interval_counts, mixture_nll, refine
 from voe.models.point import PointPredictorAdapter
+from voe.sim.render import visible
 from voe.sim.rollout import visible_slots
 from voe.sim.scene import Body, Scene, geometry_from_dict
 from voe.sim.world import World
+
+__all__ = ["ELASTICITY_GRID", "PhysicsOracle", "mixture_nll", "refine"]
 
 #: Elasticity hypotheses: the training world draws objects' elasticity from U(0.1, 0.9); the grid
 #: reaches 1.0 so that perfectly elastic objects are covered too. Every restitution it implies is
@@ -48,51 +55,75 @@ class PhysicsOracle(PointPredictorAdapter):
         friction: friction of every object.
         substeps: physics steps per frame.
         p_visible: P(present) of an object predicted to be in view.
-        refine: hypotheses per grid interval (``refine - 1`` interpolated between neighbours).
+        refine: least hypotheses per grid interval (``refine - 1`` interpolated between neighbours);
+            more where the clip needs them (``voe.models.hypotheses``), up to ``max_refine``.
+        max_refine: most hypotheses per grid interval (bounds time and memory per clip).
     """
 
     def __init__(self, noise: dict[str, Any] | None = None, elasticity: float | list[float] | None = None,
-                 friction: float = 0.0, substeps: int = 10, p_visible: float = 0.99, refine: int = 4) -> None:
+                 friction: float = 0.0, substeps: int = 10, p_visible: float = 0.99, refine: int = 4,
+                 max_refine: int = 64) -> None:
         super().__init__(lambda s, dt, n: s, noise, name="oracle")
         grid = ELASTICITY_GRID if elasticity is None else np.atleast_1d(np.asarray(elasticity, dtype=float))
         self.elasticities = tuple(sorted(float(e) for e in grid))
         self.friction = float(friction)
         self.substeps, self.p_visible, self.refine = int(substeps), float(p_visible), int(refine)
+        self.max_refine = max(int(max_refine), self.refine)
         self.bounce_speed = sl.QUANTUM[sl.CONT.index("vy")]
 
     def config(self) -> dict[str, Any]:
         return {**super().config(), "elasticity": list(self.elasticities), "friction": self.friction,
-                "substeps": self.substeps, "p_visible": self.p_visible, "refine": self.refine}
+                "substeps": self.substeps, "p_visible": self.p_visible, "refine": self.refine,
+                "max_refine": self.max_refine}
 
     # -- the protocol ----------------------------------------------------------------------------
     def frame_nll(self, batch: Batch) -> np.ndarray:
-        mean, kind, circ, pp, contact = self._predict(batch)
-        nll = self._hypothesis_nll(batch, mean, kind, circ, pp, contact, self.noise, self._shape_prior(kind))
-        H, B, T, K = nll.shape
-        per_slot = mixture_nll(nll.transpose(0, 1, 3, 2).reshape(H, B * K, T))  # (B * K, T), frame 0 NaN
-        return per_slot.reshape(B, K, T).sum(axis=1)
+        """Clip by clip: each clip has its own refinement of the hypotheses."""
+        out = np.full(batch.shape, np.nan)
+        for b in range(len(batch)):
+            one = batch.take([b])
+            mean, kind, circ, pp, contact, log_prior = self._predict(one)
+            nll = self._hypothesis_nll(one, mean, kind, circ, pp, contact, self.noise, self._shape_prior(kind))
+            per_slot = mixture_nll(nll[:, 0].transpose(0, 2, 1), log_prior)  # (K, T), frame 0 NaN
+            out[b] = per_slot.sum(axis=0)
+        return out
 
     def calibrate(self, batch: Batch) -> sl.Noise:
-        """Fit the noise by maximum likelihood, each clip scored under its best hypothesis."""
-        mean, kind, circ, pp, contact = self._predict(batch)
+        """Fit the noise by maximum likelihood, each object scored under its best hypothesis."""
+        clips = [batch.take([b]) for b in range(len(batch))]
+        grids = [self._simulate(one) for one in clips]  # the simulation is the slow part: once
         noise = self.noise
-        rows, slots = np.arange(len(batch))[:, None], np.arange(kind.shape[-1])[None, :]
         for _ in range(2):  # which hypothesis fits best depends on the noise, and vice versa
-            nll = self._hypothesis_nll(batch, mean, kind, circ, pp, contact, noise)  # (H, B, T, K)
-            best = np.nansum(nll, axis=2).argmin(0)  # (B, K): each object's own best
-            m = mean.transpose(0, 3, 1, 2, 4)[rows, slots, best].transpose(0, 2, 1, 3)  # (B, T, K, 9)
-            c = contact.transpose(0, 3, 1, 2)[rows, slots, best].transpose(0, 2, 1)  # (B, T, K)
-            noise = sl.fit_noise(batch, m, kind, circ, c)
+            parts = []
+            for one, grid in zip(clips, grids, strict=True):
+                mean, kind, circ, pp, contact, _ = self._predict(one, grid)
+                nll = self._hypothesis_nll(one, mean, kind, circ, pp, contact, noise)  # (H, 1, T, K)
+                best = np.nansum(nll[:, 0], axis=1).argmin(0)  # (K,): each object's own best
+                slots = np.arange(kind.shape[-1])
+                parts.append((mean[0, best, :, slots].transpose(1, 0, 2),  # (T, K, 9)
+                              kind[0], circ[0], contact[0, best, :, slots].T))  # (T, K)
+            m, k, c, hit = (np.stack(a) for a in zip(*parts, strict=True))
+            noise = sl.fit_noise(batch, m, k, c, hit)
         self.noise = noise
         return noise
 
     # -- internals -------------------------------------------------------------------------------
-    def _hypothesis_nll(self, batch: Batch, mean: np.ndarray, kind: np.ndarray, circ: np.ndarray,
+    def _hypothesis_nll(self, one: Batch, mean: np.ndarray, kind: np.ndarray, circ: np.ndarray,
                         pp: np.ndarray, contact: np.ndarray, noise: sl.Noise,
                         shape_prior: np.ndarray | None = None) -> np.ndarray:
-        """Per-frame surprise of each slot under each hypothesis alone, ``(H, B, T, K)``."""
-        return np.stack([sl.score(batch, mean[:, h], kind, noise, pp[:, h], circ, contact[:, h], shape_prior,
-                                  per_slot=True) for h in range(mean.shape[1])])
+        """Per-frame surprise of each slot of one clip under each hypothesis alone, ``(H, 1, T, K)``:
+        the hypotheses are scored at once as a batch of H copies of the clip."""
+        H = mean.shape[1]
+        rep = Batch(np.broadcast_to(one.frames, (H, *one.frames.shape[1:])),
+                    np.broadcast_to(one.states, (H, *one.states.shape[1:])),
+                    np.broadcast_to(one.present, (H, *one.present.shape[1:])), one.feature_names, one.dt)
+
+        def each(a: np.ndarray | None) -> np.ndarray | None:
+            return None if a is None else np.broadcast_to(a, (H, *a.shape[1:]))
+
+        nll = sl.score(rep, mean[0], each(kind), noise, pp[0], each(circ), contact[0], each(shape_prior),
+                       per_slot=True)  # (H, T, K)
+        return nll[:, None]
 
     def _body(self, slot: int, s: np.ndarray, ix: dict[str, int], elasticity: float) -> Body:
         circle = s[ix["is_circle"]] > 0.5
@@ -202,78 +233,43 @@ class PhysicsOracle(PointPredictorAdapter):
         for the intact oracle (a lesion may forget them)."""
         return None
 
-    def _predict(self, batch: Batch):
-        """Per hypothesis: means ``(B, H, T, K, 9)``, kinds ``(B, T, K)``, remembered shapes
-        ``(B, T, K)``, P(present) ``(B, H, T, K)`` and impacts ``(B, H, T, K)``."""
-        if len(batch.geometry) != len(batch):
+    def _simulate(self, one: Batch) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The simulated grid of one clip: predictions ``(H, T, K, F)``, P(present) and impacts
+        ``(H, T, K)`` (see ``_clip``)."""
+        if len(one.geometry) != len(one):
             raise ModelContractError("oracle needs batch.geometry (static segments and screens) per clip")
-        names = batch.feature_names
+        return self._clip(one.states[0].astype(np.float64), one.present[0], one.geometry[0], one.dt,
+                          one.feature_names, one.frames.shape[-1])
+
+    def _predict(self, one: Batch, grid: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None):
+        """Per hypothesis of one clip: means ``(1, H, T, K, 9)``, kinds ``(1, T, K)``, remembered
+        shapes ``(1, T, K)``, P(present) ``(1, H, T, K)``, impacts ``(1, H, T, K)`` and the log
+        prior weights ``(H,)``, the grid refined as ``voe.models.hypotheses`` explains.
+
+        Args:
+            one: a batch of one clip.
+            grid: ``_simulate(one)``, if already computed.
+        """
+        names = one.feature_names
         idx = sl.cont_index(names)
-        states = batch.states.astype(np.float64)
-        out = [self._clip(states[b], batch.present[b], batch.geometry[b], batch.dt, names, batch.frames.shape[-1])
-               for b in range(len(batch))]
-        pred, pvis, contact = refine(np.stack([o[0] for o in out]),  # (B, H, T, K, F)
-                                     np.stack([o[1] for o in out]),  # (B, H, T, K)
-                                     np.stack([o[2] for o in out]),  # (B, H, T, K)
-                                     self.refine, names.index("angle"))
-        known = np.zeros(batch.present.shape, dtype=bool)
-        known[:, 1:] = ~np.isnan(pred[:, 0, 1:, :, 0])
-        kind = sl.slot_kind(np.cumsum(batch.present, axis=1) > 0, batch.present)
-        pp = np.where((kind == sl.NEW)[:, None], self.noise.p_present[sl.NEW], pvis)
+        pred, pvis, contact = self._simulate(one) if grid is None else grid
+        geo = self._geometry(one.geometry[0])
+        _, occluders = geometry_from_dict(geo)
+        extent = tuple(geo.get("extent", (10.0, 10.0)))
+        pixel = extent[0] / one.frames.shape[-1]
+
+        def p_vis(s: np.ndarray) -> np.ndarray:
+            return np.where(visible(s, occluders, extent, pixel), self.p_visible, 1 - self.p_visible)
+
+        scored = one.present[0].copy()  # (T, K) compared with an observation
+        scored[0] = False
+        dyn = [idx[i] for i, f in enumerate(sl.RETURN_FLOOR) if f > 0]
+        spacing = np.asarray([f for f in sl.RETURN_FLOOR if f > 0])
+        counts = interval_counts(pred, scored, dyn, spacing, names.index("angle"), self.refine, self.max_refine)
+        pred, pvis, contact, log_prior = refine(pred, pvis, contact, counts, self.elasticities,
+                                                names.index("angle"), p_vis)
+        kind = sl.slot_kind(np.cumsum(one.present, axis=1) > 0, one.present)  # (1, T, K)
+        pp = np.where(kind == sl.NEW, self.noise.p_present[sl.NEW], pvis)[None]  # (1, H, T, K)
         circ = np.zeros(kind.shape, dtype=bool)
-        circ[:, 1:] = pred[:, 0, 1:, :, names.index("is_circle")] > 0.5
-        return pred[..., idx], kind, circ, pp, contact
-
-
-def refine(pred: np.ndarray, pvis: np.ndarray, contact: np.ndarray, k: int,
-           angle: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Put ``k - 1`` hypotheses between each two neighbours of the grid, by interpolation.
-
-    Why: a calibrated oracle predicts unhurried frames to within a fraction of the observation
-    grid, so at an impact a grid of 0.05 in elasticity (about 0.3 units/s in a rebound) is coarse
-    enough for the luck of which clip lies nearer a grid point to decide a comparison. What one
-    impact does to the state is smooth in the elasticity, so the in-between predictions are
-    interpolated instead of simulated (visibility is taken from the nearer neighbour).
-
-    Args:
-        pred: ``(B, H, T, K, F)``; pvis, contact: ``(B, H, T, K)``; angle: index of the angle
-            feature (interpolated along the shorter way round).
-
-    Returns:
-        The same arrays with ``(H - 1) * k + 1`` hypotheses, the originals at every k-th.
-    """
-    if k <= 1 or pred.shape[1] < 2:
-        return pred, pvis, contact
-    lo, hi = pred[:, :-1], pred[:, 1:]
-    step = hi - lo
-    step[..., angle] = (step[..., angle] + np.pi) % (2 * np.pi) - np.pi
-    fr = np.arange(k) / k  # (k,)
-    mid = lo[:, :, None] + step[:, :, None] * fr[None, None, :, None, None, None]  # (B, H-1, k, T, K, F)
-    near = fr < 0.5
-    vis = np.where(near[None, None, :, None, None], pvis[:, :-1, None], pvis[:, 1:, None])
-    hit = (contact[:, :-1] | contact[:, 1:])[:, :, None].repeat(k, axis=2)
-    hit[:, :, 0] = contact[:, :-1]
-    B, H = pred.shape[:2]
-
-    def flat(a: np.ndarray, last: np.ndarray) -> np.ndarray:
-        return np.concatenate([a.reshape(B, (H - 1) * k, *a.shape[3:]), last[:, -1:]], axis=1)
-
-    return flat(mid, pred), flat(vis, pvis), flat(hit, contact)
-
-
-def mixture_nll(nll: np.ndarray) -> np.ndarray:
-    """Per-frame surprise ``(B, T)`` of an equal-weight Bayesian mixture of hypotheses.
-
-    Args:
-        nll: ``(H, B, T)`` per-frame surprise under each hypothesis alone (frame 0 NaN).
-
-    Returns:
-        ``-log p(o_t | o_<t)``, where the mixture weights at t are the hypotheses' posteriors
-        given frames 1..t-1; frame 0 NaN.
-    """
-    H = nll.shape[0]
-    cum = np.cumsum(np.nan_to_num(nll, nan=0.0), axis=-1)  # (H, B, T): -log p(o_1..t | h)
-    log_evidence = logsumexp(-cum, axis=0) - np.log(H)  # (B, T): log p(o_1..t)
-    out = -np.diff(log_evidence, axis=-1, prepend=0.0)
-    out[:, 0] = np.nan
-    return out
+        circ[:, 1:] = pred[0, 1:, :, names.index("is_circle")] > 0.5
+        return pred[None][..., idx], kind, circ, pp, contact[None], log_prior

@@ -36,6 +36,19 @@ CONSTANT = ("width", "height", "intensity")  # an object's look never changes
 _SHAPE = np.isin(CONT, ("width", "height"))  # (9,) the features ``score(shape_prior=...)`` forgets
 #: Resolution of the state observation space per ``CONT`` feature.
 QUANTUM = (0.01, 0.01, 0.01, 0.05, 0.05, 0.05, 0.01, 0.01, 0.01)
+#: Smallest noise of the dynamic features of a slot predicted through something unobserved: one
+#: coming back from behind a screen (``sigma_return``) or one through an impact (``sigma_contact``,
+#: whose outcome depends on an elasticity no frame shows): half a cell of ``QUANTUM``.
+#: Why: a Gaussian narrower than half a cell puts (almost) all its mass on one cell, i.e. it claims
+#: to know in which cell the object will be. Maximum likelihood reaches that claim whenever every
+#: such frame of the calibration clips lands in its predicted cell (returns after hidden impacts
+#: are rare there, and the best of a grid of elasticities fits each calibration bounce after the
+#: fact), the continuous version of a zero count; like the Laplace smoothing of ``p_present``, the
+#: floor keeps the claim at the resolution of the observation space. It is also the spacing the
+#: oracle's elasticity hypotheses are refined to (``voe.models.hypotheses``), so its mixture is
+#: never a comb of hypotheses narrower than their gaps. An object's look (``CONSTANT``) is carried
+#: unchanged by the world's law and keeps its fit.
+RETURN_FLOOR = tuple(0.0 if f in CONSTANT else q / 2 for f, q in zip(CONT, QUANTUM, strict=True))
 #: Robust outlier component of every state Gaussian: its weight, and a uniform range per ``CONT``
 #: feature (for the angle, the range of the wrapped residual: one full turn).
 OUTLIER = 0.01
@@ -281,8 +294,11 @@ def fit_noise(batch: Batch, mean: np.ndarray, kind: np.ndarray, circle_mem: np.n
     circ = batch.states[..., batch.feature("is_circle")] > 0.5
     known = pres & (kind != NEW)
     keep = float((np.sum(circ[known] == circle_mem[known]) + 1) / (known.sum() + 2))
-    return Noise(sigma=rms(tracked & ~hit, d.sigma, mean), sigma_return=rms(ret, d.sigma_return, mean),
-                 sigma_contact=rms(hit, d.sigma_contact, mean),
+    def floored(sig: tuple[float, ...]) -> tuple[float, ...]:
+        return tuple(max(v, f) for v, f in zip(sig, RETURN_FLOOR, strict=True))
+
+    return Noise(sigma=rms(tracked & ~hit, d.sigma, mean), sigma_return=floored(rms(ret, d.sigma_return, mean)),
+                 sigma_contact=floored(rms(hit, d.sigma_contact, mean)),
                  prior_mean=prior_mean, prior_sigma=rms(new, d.prior_sigma, pm, robust=False),
                  p_present=tuple(p_present),
                  p_circle=float((circ[new].sum() + 1) / (new.sum() + 2)), p_keep=keep)
