@@ -6,9 +6,14 @@ priors and noise), but only the *true* effect is fitted, exactly as the search f
 (fit on the fitting windows' subsample, then the refine step), and the interval is computed as
 the finder does (``voe.gap.uncertainty``). It prints the coverage of the window bootstrap, the
 episode bootstrap, and the smallest inflation factor of the episode bootstrap that covers the
-target share, i.e. the figure ``voe.gap.uncertainty.INFLATE`` records. Dev seeds only (0..99).
+target share, i.e. the figure ``voe.gap.uncertainty.INFLATE`` records, and the window bootstrap
+both centred on the fit and shifted to the whole sample's one-step estimate
+(``voe.gap.uncertainty.SHIFT``), each factor with its median interval width. Dev seeds only
+(0..99), or ``--case-seeds``: cases of a development bench seed by id (seed * 1000 + index, truth
+as the bench's cycle gives it), e.g. the identified cases whose intervals missed on 3629.
 
     python bench/gap_coverage.py --seeds 0-3 --truths friction,restitution --jobs 2
+    python bench/gap_coverage.py --case-seeds 3629015,3629041
 """
 
 from __future__ import annotations
@@ -25,9 +30,9 @@ from voe.gap.uncertainty import TOL, quantiles, widen, window_terms
 from voe.parallel import parallel_map
 
 
-def one(args: tuple[int, str]) -> dict:
+def one(args: tuple[int, str, bool]) -> dict:
     """Fit the true effect of one case and return what the intervals need."""
-    seed, truth = args
+    seed, truth, a_shift = args
     case = make_case(np.random.default_rng(seed), truth)
     config = GapConfig()
     p = prepare(case.scene, case.episodes, (truth,), config)
@@ -42,21 +47,42 @@ def one(args: tuple[int, str]) -> dict:
     terms = window_terms(p.shooter, p.sigma, fit_windows(p, p.split.fit, config), res.effect, res.params, ctx,
                          config.fit.f_scale)
     lo_b, hi_b = res.effect.bounds(ctx)
-    q = {by: quantiles(terms, res.effect, res.params, ctx, seed, by) for by in (False, True)}
-    return {"seed": seed, "truth": truth, "params": res.params, "true": case.params, "q": q,
+    # window bootstrap (BY_EPISODE False), episode bootstrap, and the window bootstrap both centred on the fit
+    # (shift off) and on the whole sample's one-step estimate (shift on), from the same fit
+    q = {(by, sh): quantiles(terms, res.effect, res.params, ctx, seed, by, shift=sh)
+         for by, sh in ((False, False), (True, a_shift), (False, True))}
+    return {"seed": seed, "truth": truth, "params": res.params, "true": case.params, "q": q, "q_shift": a_shift,
             "scale": res.effect.scale(ctx), "lo_b": lo_b, "hi_b": hi_b}
 
 
-def covered(r: dict, by_episode: bool, k: float, tol: float) -> bool:
-    """Whether the interval (window or episode bootstrap, widened by ``k``, floor ``tol``
-    scales) contains every true parameter."""
-    q_lo, q_hi, blind = r["q"][by_episode]
+def interval(r: dict, by_episode: bool, k: float, tol: float, shift: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """(P,) ends of the interval (window or episode bootstrap, widened by ``k``, floor ``tol``
+    scales), as ``voe.gap.uncertainty.bootstrap`` makes it."""
+    q_lo, q_hi, blind = r["q"][(by_episode, shift or by_episode and r["q_shift"])]
     lo, hi = widen(r["params"], q_lo, q_hi, tol / TOL * r["scale"], k)
-    lo, hi = np.where(blind, r["lo_b"], lo), np.where(blind, r["hi_b"], hi)
+    lo, hi = np.clip(lo, r["lo_b"], r["hi_b"]), np.clip(hi, r["lo_b"], r["hi_b"])
+    return np.where(blind, r["lo_b"], lo), np.where(blind, r["hi_b"], hi)
+
+
+def covered(r: dict, by_episode: bool, k: float, tol: float, shift: bool = False) -> bool:
+    """Whether the interval contains every true parameter."""
+    lo, hi = interval(r, by_episode, k, tol, shift)
     t = r["true"]
     return bool(np.all(np.isnan(t) | ((lo <= t) & (t <= hi))))
 
 
+def width(rows: list[dict], k: float, shift: bool) -> float:
+    """Median over cases of the window-bootstrap interval's mean width, relative to the true value
+    (parameter scale where the truth is near zero)."""
+    out = []
+    for r in rows:
+        lo, hi = interval(r, False, k, TOL, shift)
+        ref = np.maximum(np.abs(np.nan_to_num(r["true"], nan=0.0)), r["scale"])
+        out.append(float(np.mean((hi - lo) / ref)))
+    return float(np.median(out))
+
+
+DEV_BENCH_SEEDS = (*range(100), 5151, 6263, 7741, 3629)  # PLAN.md: the gap development seeds
 FACTORS = (1.0, 1.5, 2.0, 2.5, 3.0, 4.0)
 
 
@@ -67,19 +93,34 @@ def main() -> None:
     ap.add_argument("--target", type=float, default=0.95, help="share of cases the calibrated interval covers")
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--episodes", action="store_true", help="list per case for the episode bootstrap")
+    ap.add_argument("--shift", action="store_true", help="centre the bootstrap on the whole sample's one-step estimate")
+    ap.add_argument("--case-seeds", default="",
+                    help="comma-separated case ids of a dev bench seed's cycle (e.g. 3629015), truth as the bench cycles")
     a = ap.parse_args()
     lo_s, hi_s = (int(x) for x in a.seeds.split("-"))
     if not (0 <= lo_s <= hi_s <= 99):
         ap.error("development seeds are 0..99")
     todo = [(s, t) for s in range(lo_s, hi_s + 1) for t in a.truths.split(",")]
+    if a.case_seeds:
+        ids = [int(x) for x in a.case_seeds.split(",")]
+        if any(i // 1000 not in DEV_BENCH_SEEDS for i in ids):
+            ap.error(f"case ids must come from a development bench seed {DEV_BENCH_SEEDS}")
+        todo = [(i, TRUTHS[(i % 1000) % len(TRUTHS)]) for i in ids]
+    todo = [(s, t, a.shift) for s, t in todo]
     t0 = time.time()
     rows = list(parallel_map(one, todo, a.jobs))
     n = len(rows)
     print(f"gap coverage: {n} cases ({a.truths}; seeds {a.seeds}), {time.time() - t0:.0f} s")
     for r in rows:
         ks = [k for k in FACTORS if covered(r, a.episodes, k, TOL)]
+        ks1 = [k for k in FACTORS if covered(r, False, k, TOL, True)]
         print(f"  {r['truth']:22s} seed {r['seed']:2d} fit {np.round(r['params'], 4)} true {np.round(r['true'], 4)} "
-              f"covered from k = {min(ks, default='-')}")
+              f"covered from k = {min(ks, default='-')} (shifted to the one-step estimate: {min(ks1, default='-')})")
+    for sh in (False, True):
+        for k in FACTORS:
+            c = sum(covered(r, False, k, TOL, sh) for r in rows)
+            print(f"window bootstrap{', shifted' if sh else ''}, k = {k}: {c}/{n} = {100 * c / n:.0f} %, "
+                  f"median relative width {width(rows, k, sh):.3f}")
     for by in (False, True):
         for k in FACTORS:
             c = sum(covered(r, by, k, TOL) for r in rows)

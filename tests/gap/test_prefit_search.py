@@ -62,6 +62,27 @@ def test_flight_samples_need_flight():
     assert flight_samples(scene, eps) is None  # 11 samples: shorter than one fitting span
 
 
+def test_a_ball_resting_on_a_box_is_not_in_flight():
+    # development case 3629012: half the "flight" samples were the ball at rest on the box,
+    # recorded acceleration zero, read as 9.8 m/s^2 of missing force
+    ball = BodySpec("ball", "circle", mass=1.0, radius=0.1)
+    box = BodySpec("box", "box", mass=2.0, size=(0.3, 0.2))
+    scene = SceneSpec((0.0, -9.81), (ball, box))
+    t = np.arange(101) / 100.0
+    rest = np.zeros((101, 2, 3))
+    rest[:, 0, :2] = (0.0, 0.2)  # ball centre 0.2 m above the box centre: touching its top
+    rest[:, 1, :2] = (0.0, 0.0)
+    fly = rest.copy()
+    fly[:, 0, 0] = -3.0 + 2.0 * t  # the same ball thrown far from the box
+    fly[:, 0, 1] = 1.0 + 3.0 * t - 4.905 * t**2
+    s = flight_samples(scene, [Episode(0, t, rest)])
+    assert s is None or not np.any(s.body == 0)  # at rest on the box: never in flight
+    s = flight_samples(scene, [Episode(0, t, fly)])
+    ball_rows = s.body == 0
+    assert ball_rows.sum() >= 30  # thrown far from the box: in flight
+    np.testing.assert_allclose(s.dacc[ball_rows], 0.0, atol=1e-6)  # a parabola: nothing missing
+
+
 def _result(sse):
     return FitResult(EFFECTS.get("linear_drag")(), np.zeros(1), 0.0, 0.0, np.asarray(sse, float))
 

@@ -207,9 +207,11 @@ def test_restitution_region_changes_bounces_only_inside_its_interval():
     assert both.region_elasticity == (0.3, -0.5, 0.5)
 
 
-def test_centred_bootstrap_varies_about_the_fit():
+def test_centred_bootstrap_varies_about_the_whole_samples_one_step_estimate():
     # the fit was made on a subset of windows (a sparse effect's focus), so the summed gradient
-    # over all windows is not zero; an uncentred one-step bootstrap then runs off to a bound
+    # over all windows is not zero; an uncentred one-step bootstrap then runs off to a bound, a
+    # centred one varies about the fit, and shifted (SHIFT) about the whole sample's one-step
+    # estimate, which the interval (the hull with the fit) then reaches
     from voe.gap import uncertainty
 
     scene, eps = flight_episodes(n=2, duration=1.0, seed=5)
@@ -219,12 +221,17 @@ def test_centred_bootstrap_varies_about_the_fit():
     hs = np.full((30, 1, 1), 1e4)  # (W, P, P)
     gs = 3e3 + rng.normal(0, 100, (30, 1))  # (W, P): a common offset plus scatter
     terms = (hs, gs, np.arange(30) // 5)
-    lo, hi, _ = uncertainty.quantiles(terms, eff, np.array([0.4]), ctx)
+    one_step = 0.4 - gs.sum() / hs.sum()  # about 0.1
+    lo, hi, _ = uncertainty.quantiles(terms, eff, np.array([0.4]), ctx, shift=False)
     assert lo[0] <= 0.4 <= hi[0] and hi[0] - lo[0] < 0.01
+    lo, hi, _ = uncertainty.quantiles(terms, eff, np.array([0.4]), ctx, shift=True)
+    assert lo[0] <= one_step <= hi[0] and hi[0] - lo[0] < 0.01
+    lo, hi = uncertainty.bootstrap(terms, eff, np.array([0.4]), ctx)
+    assert lo[0] <= one_step < 0.4 <= hi[0]
     old = uncertainty.CENTRE, uncertainty.STRATIFY
     try:
         uncertainty.CENTRE = uncertainty.STRATIFY = False  # unstratified: no Wald floor about the fit
-        lo, hi, _ = uncertainty.quantiles(terms, eff, np.array([0.4]), ctx)
+        lo, hi, _ = uncertainty.quantiles(terms, eff, np.array([0.4]), ctx, shift=False)
         assert not lo[0] <= 0.4 <= hi[0]  # every resample steps the same way, off the fit
     finally:
         uncertainty.CENTRE, uncertainty.STRATIFY = old
@@ -271,14 +278,14 @@ def test_sparse_bootstrap_draws_from_the_informative_windows():
     old = uncertainty.STRATIFY
     try:
         uncertainty.STRATIFY = False
-        lo, hi, _ = uncertainty.quantiles(terms, eff, np.array([0.4]), ctx)
+        lo, hi, _ = uncertainty.quantiles(terms, eff, np.array([0.4]), ctx, shift=False)
         lo_b, hi_b = eff.bounds(ctx)
         assert lo[0] == lo_b[0] or hi[0] == hi_b[0]  # a resample without a collision runs to a bound
         lo_b, hi_b = eff.bounds(ctx)
         one = (hs.copy(), gs.copy(), terms[2])
         one[0][[11, 20]] = 0.0  # a single informative window says nothing about its own spread
         uncertainty.STRATIFY = True
-        lo, hi, blind = uncertainty.quantiles(one, eff, np.array([0.4]), ctx)
+        lo, hi, blind = uncertainty.quantiles(one, eff, np.array([0.4]), ctx, shift=False)
         half = 1.96 / np.sqrt(1e4 + 1e-9 / eff.scale(ctx)[0] ** 2)  # the Wald floor of one window's curvature
         assert not blind[0] and lo[0] == pytest.approx(0.4 - half) and hi[0] == pytest.approx(0.4 + half)
     finally:

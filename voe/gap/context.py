@@ -105,14 +105,27 @@ def near_contact(scene: SceneSpec, ep: Episode, tol: float = 0.01) -> np.ndarray
     estimates both start velocities across the impact, and every model then sends the bodies
     on through each other; such windows must not start there.
     """
+    return near_bodies(scene, ep, tol).any(axis=1)
+
+
+def near_bodies(scene: SceneSpec, ep: Episode, tol: float = 0.01) -> np.ndarray:
+    """(T, B) bool: body b is within ``tol`` of touching another body not joined to it
+    (bounding circles).
+
+    Why per body: ``frame_labels`` looks only at statics, so a ball resting on top of a box is
+    labelled ``flight``; its recorded acceleration there is zero, not gravity, and must not be
+    read as a missing force (``voe.gap.prefit.flight_samples``).
+    """
     reach = np.array([float(np.max(np.linalg.norm(b.local_vertices(), axis=1))) for b in scene.bodies])  # (B,)
     joined = {frozenset((j.a, j.b)) for j in scene.joints if j.b is not None}
-    out = np.zeros(len(ep.t), dtype=bool)
     names = scene.names
+    out = np.zeros((len(ep.t), len(names)), dtype=bool)
     for i in range(len(names)):
         for j in range(i + 1, len(names)):
             if frozenset((names[i], names[j])) in joined:
                 continue
-            d = np.linalg.norm(ep.pose[:, i, :2] - ep.pose[:, j, :2], axis=1)
-            out |= d < reach[i] + reach[j] + tol
+            d = np.linalg.norm(ep.pose[:, i, :2] - ep.pose[:, j, :2], axis=1)  # (T,)
+            near = d < reach[i] + reach[j] + tol
+            out[:, i] |= near
+            out[:, j] |= near
     return out

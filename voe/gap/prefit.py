@@ -8,7 +8,11 @@ missing force per unit mass, sampled at known positions and velocities. Fitting 
 law to those samples is a cheap regression (no simulation), and its result is a starting point
 near the answer for the simulator fit, which alone decides. Samples come from a Savitzky-Golay
 fit of each flight stretch; bodies on joints or in contact are left out, because there the
-nominal acceleration is not known without simulating.
+nominal acceleration is not known without simulating. Contact includes touching another body
+(``voe.gap.context.near_bodies``): on development case 3629012 (a spring to an anchor) half of
+the "flight" samples were the ball resting on the box, recorded acceleration zero, read as
++9.8 m/s^2 missing; the regression start put the anchor at the edge of its bounds with k 2.4
+times too large, the simulator fit went to k = 0 and the case ended ``unexplained``.
 """
 
 from __future__ import annotations
@@ -19,7 +23,7 @@ import numpy as np
 from scipy.optimize import least_squares
 from scipy.signal import savgol_filter
 
-from voe.gap.context import frame_labels
+from voe.gap.context import frame_labels, near_bodies
 from voe.gap.effects.base import Effect, EffectSum
 from voe.gap.recordings import Episode
 from voe.sim.scenefile import SceneSpec, SimState
@@ -67,6 +71,7 @@ def flight_samples(scene: SceneSpec, episodes: list[Episode], half: int = HALF,
             continue
         dt = float(np.median(np.diff(ep.t)))
         labels = frame_labels(scene, ep)  # (T, B)
+        near = near_bodies(scene, ep)  # (T, B): resting on or touching another body is no flight
         kw = {"window_length": 2 * half + 1, "polyorder": 3, "axis": 0, "delta": dt, "mode": "interp"}
         pose = savgol_filter(ep.pose, deriv=0, **kw)  # (T, B, 3)
         vel = savgol_filter(ep.pose, deriv=1, **kw)
@@ -74,7 +79,7 @@ def flight_samples(scene: SceneSpec, episodes: list[Episode], half: int = HALF,
         for b in range(ep.pose.shape[1]):
             if jointed[b]:
                 continue
-            fl = (labels[:, b] == "flight").astype(float)
+            fl = ((labels[:, b] == "flight") & ~near[:, b]).astype(float)
             ok = np.convolve(fl, np.ones(2 * half + 1), mode="same") >= 2 * half + 1  # whole span in flight
             ok[:half] = ok[t_len - half:] = False
             k = np.flatnonzero(ok)

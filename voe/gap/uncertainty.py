@@ -7,10 +7,11 @@ bootstrap (windows, not samples: residuals within a window are correlated throug
 estimated initial state). Refitting through the simulator for every resample would cost hundreds
 of fits, so each resample takes one Gauss-Newton step from the fitted parameters instead, using
 per-window gradients and curvatures computed once (one extra rollout per window and parameter,
-finite differences, soft-L1 weights at the fit). The raw bootstrap held the true value in only
-73 % of development cases, so the interval (the hull of the fit and the bootstrap's percentile
-interval) is widened away from the fitted value by ``INFLATE`` on each side (see its calibration
-note) and is never narrower than the fit's own tolerance. A parameter that moves no window's prediction gets the
+finite differences, soft-L1 weights at the fit). The resamples vary about the whole sample's
+one-step estimate (``SHIFT``: the fit stops short of the optimum of all fitting windows, and that
+bias is no resampling noise), and the interval (the hull of the fit and the bootstrap's
+percentile interval) is widened away from the fitted value by ``INFLATE`` on each side (see its
+calibration note) and is never narrower than the fit's own tolerance. A parameter that moves no window's prediction gets the
 whole bounded range: no information is not certainty. An interval containing the effect's
 nominal value (zero strength, the scene's own coefficient) means the effect is not established,
 and the finder does not report it.
@@ -39,7 +40,7 @@ LEVEL = 0.95
 # 42/48 at 2x, 43/48 at 2.5x, 44/48 at 3x; seeds 4-7 28/48, 38/48, 41/48, 42/48; so 3x (86/96,
 # 90 %), the smallest factor that reaches 90 %. Half the cases left out are point_attractor fits
 # in a wrong optimum.
-INFLATE = 3.0
+INFLATE = 2.5
 TOL = 0.01  # parameter scales: the fit's own tolerance (voe.gap.fit, xatol / Powell xtol)
 BY_EPISODE = False  # resample windows (see the calibration above)
 # Centred score bootstrap: each window's gradient minus the mean over windows, so the whole
@@ -50,6 +51,17 @@ BY_EPISODE = False  # resample windows (see the calibration above)
 # fitted 1.144) got intervals [0.05, 20] and [0, 3], and both correct effects were dropped as
 # not established; centred, both are reported, the true value inside.
 CENTRE = True
+# Shifted (session 10): the centred resamples vary about the whole sample's one-step
+# Gauss-Newton estimate (fit minus H^-1 g over every informative fitting window, within the
+# bounds) instead of about the fit, and the interval is their hull with the fit. Why: the fit
+# stops within its tolerance on a subsample of the fitting windows, and that bias is not
+# resampling noise, so centring about the fit left it out of the interval entirely; widening
+# covered it only by making every interval wider. The seven intervals of development seed 3629
+# that missed the truth were bias of this kind: refitted by bench/gap_coverage.py, six of them
+# are covered at 2.5x shifted, none unshifted at 3x (e.g. 3629041, constant_acceleration
+# g_y 0.354 against 0.3915). Stratification keeps the step well conditioned (only windows the
+# part moves, so no resample without curvature; see below).
+SHIFT = True
 # Stratified by information (session 8): each part's resamples draw only from the windows whose
 # prediction that part moves, as many as there are. Why: a sparse effect (``mass`` acts only in
 # ball-box collisions, ``rolling_resistance`` only while the ball rolls) is informed by a few
@@ -147,7 +159,8 @@ def widen(params: np.ndarray, q_lo: np.ndarray, q_hi: np.ndarray, scale: np.ndar
 
 
 def quantiles(terms: tuple[np.ndarray, np.ndarray, np.ndarray], effect: Effect, params: np.ndarray,
-              ctx: FitContext, seed: int = 0, by_episode: bool = BY_EPISODE) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+              ctx: FitContext, seed: int = 0, by_episode: bool = BY_EPISODE,
+              shift: bool | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(P,) 2.5 and 97.5 percentiles of one Gauss-Newton step from ``params`` over resamples of
     the windows (or of whole episodes), and (P,) which parameters no window informs.
 
@@ -167,12 +180,20 @@ def quantiles(terms: tuple[np.ndarray, np.ndarray, np.ndarray], effect: Effect, 
     lo_b, hi_b = effect.bounds(ctx)
     draws = np.tile(params, (N_BOOT, 1)).astype(float)  # (N, P)
     wald = np.zeros(len(params))  # (P,)
+    move = np.zeros(len(params))  # (P,) the whole sample's one-step move from the fit (``SHIFT``)
+    shift = SHIFT if shift is None else shift
     i = 0
     for e in effect.parts:
         sl = slice(i, i + e.n_params)
         i += e.n_params
         inf = informs(h_g[:, sl, sl], scale[sl]) if STRATIFY else np.ones(len(groups), dtype=bool)  # (G,)
         h_p, g_p = h_g[inf], g_g[inf]  # the part's informative groups
+        if shift and len(g_p):
+            try:
+                h_all = h_p.sum(axis=0) + ridge
+                move[sl] = _step(params[sl], h_all[sl, sl], g_p.sum(axis=0)[sl], lo_b[sl], hi_b[sl]) - params[sl]
+            except np.linalg.LinAlgError:
+                pass
         if CENTRE and len(g_p):
             g_p = g_p - g_p.mean(axis=0)  # the whole sample steps nowhere: resamples vary about the fit
         idx = rng.integers(0, max(len(h_p), 1), size=(N_BOOT, len(h_p)))  # (N_BOOT, G_inf)
@@ -190,10 +211,10 @@ def quantiles(terms: tuple[np.ndarray, np.ndarray, np.ndarray], effect: Effect, 
     if np.isnan(draws).all():
         return lo_b.astype(float), hi_b.astype(float), blind
     a = (1 - LEVEL) / 2
-    q_lo, q_hi = np.nanquantile(draws, a, axis=0), np.nanquantile(draws, 1 - a, axis=0)
+    q_lo, q_hi = np.nanquantile(draws, a, axis=0) + move, np.nanquantile(draws, 1 - a, axis=0) + move
     if not STRATIFY:
         return q_lo, q_hi, blind
-    return np.minimum(q_lo, params - wald), np.maximum(q_hi, params + wald), blind
+    return np.minimum(q_lo, params + move - wald), np.maximum(q_hi, params + move + wald), blind
 
 
 def informs(h: np.ndarray, scale: np.ndarray) -> np.ndarray:
