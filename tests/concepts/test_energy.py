@@ -1,26 +1,30 @@
-"""Energy-v4: the impossible clip is the possible one played backwards; only its bounce gains energy."""
+"""Energy-v5: the impossible clip is the possible one played backwards; only its bounce gains energy.
+Each set also holds the left-right mirrors of both clips, so the drift's direction is balanced."""
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 import pytest
 
 from voe.concepts import get_concept
 from voe.concepts.parts import FLOOR_Y
+from voe.io.balance import ClipData, measure
 from voe.sim.scene import FEATURE_NAMES, SimConfig
 
-Y, VY = FEATURE_NAMES.index("y"), FEATURE_NAMES.index("vy")
+X, Y, VX, VY = (FEATURE_NAMES.index(n) for n in ("x", "y", "vx", "vy"))
 
 
 @pytest.fixture(scope="module")
 def sets():
-    c = get_concept("Energy-v4")
+    c = get_concept("Energy-v5")
     return [c.make_set(i, s, SimConfig()) for s in (0, 7) for i in range(8)]
 
 
 def test_impossible_is_the_possible_clip_reversed(sets):
     for m in sets:
-        pos, imp = (cl.rec for cl in m.clips)
+        pos, imp = (cl.rec for cl in m.clips[:2])
         np.testing.assert_array_equal(imp.frames, pos.frames[::-1])
         np.testing.assert_array_equal(imp.states[..., Y], pos.states[::-1, :, Y])
         np.testing.assert_array_equal(imp.states[..., VY], -pos.states[::-1, :, VY])
@@ -30,7 +34,7 @@ def test_one_bounce_that_loses_energy_forwards_and_gains_it_backwards(sets):
     for m in (m for m in sets if m.condition == "visible"):
         slot, onset, T = m.params["main_slots"][0], m.clips[0].onset, SimConfig().n_frames
         h = m.params["look"]["height"]
-        pos, imp = (cl.rec for cl in m.clips)
+        pos, imp = (cl.rec for cl in m.clips[:2])
         vy = pos.states[:, slot, VY]
         assert (np.diff(np.sign(vy)) > 0).sum() == 1  # one bounce
         impact = T - onset
@@ -78,3 +82,36 @@ def test_clip_starts_and_ends_at_the_same_speed(sets):
         st = m.clips[0].rec.states
         v0, v1 = (float(np.hypot(st[t, slot, 3], st[t, slot, 4])) for t in (0, -1))
         assert v0 > 2.0 and abs(v0 - v1) < 0.05
+
+
+def test_each_set_holds_both_clips_and_their_exact_mirrors(sets):
+    """v4 on seed 4418: the reversal drifts the other way, and every random pixel network's sign
+    followed the drift; the mirrors put each direction on both sides of every set."""
+    for m in sets:
+        assert m.kind == "mirrored"
+        assert [(c.variant, c.role) for c in m.clips] == [
+            ("possible", "possible"), ("impossible", "impossible"),
+            ("mirror-possible", "possible"), ("mirror-impossible", "impossible")]
+        for c, mc in ((m.clips[0], m.clips[2]), (m.clips[1], m.clips[3])):
+            # drawn from the mirrored states: the flipped frames up to anti-aliasing round-off
+            assert np.abs(mc.rec.frames.astype(int) - c.rec.frames[..., ::-1]).max() <= 3
+            np.testing.assert_array_equal(mc.rec.states[..., X], np.float32(10.0) - c.rec.states[..., X])
+            np.testing.assert_array_equal(mc.rec.states[..., VX], -c.rec.states[..., VX])
+            np.testing.assert_array_equal(mc.rec.states[..., Y], c.rec.states[..., Y])
+        slot = m.params["main_slots"][0]
+        drift = [np.sign(np.nanmean(c.rec.states[:, slot, VX])) for c in m.clips]
+        assert drift[0] == -drift[1] == -drift[2] == drift[3] != 0
+
+
+def test_direction_balance_x_on_the_set_but_not_on_its_v4_half(sets):
+    """X needs the mirrors (the v4 pair alone lacks it); Y is the violation itself: backwards the
+    ball spends longer rising than falling."""
+    for m in sets:
+        pos = [ClipData(c.rec.frames, c.rec.states, c.rec.present) for c in m.clips if c.role == "possible"]
+        imp = [ClipData(c.rec.frames, c.rec.states, c.rec.present) for c in m.clips if c.role == "impossible"]
+        full, half = measure(pos, imp, FEATURE_NAMES), measure(pos[:1], imp[:1], FEATURE_NAMES)
+        assert str(full) == "F+M+P+V+H+D+X" and half.D and not half.X
+        # a direction-only scorer (summed signed horizontal speed of the ball) ties exactly
+        slot = m.params["main_slots"][0]
+        score = [math.fsum(np.nan_to_num(c.rec.states[1:, slot, VX]).tolist()) for c in m.clips]
+        assert score[1] + score[3] == score[0] + score[2]

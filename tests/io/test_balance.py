@@ -51,7 +51,7 @@ def test_hidden_splice_reaches_t_k_and_a_splice_in_view_only_f():
     # only a window that spans all 6 hidden frames and one seen frame on each side (8 frames,
     # k = 7) tells AB from A and B: T6
     assert (bal.F, bal.M, bal.T, bal.P, bal.V, bal.H, bal.D) == (True, True, 6, True, True, True, True)
-    assert str(bal) == "F+M+T6+P+V+H+D"
+    assert str(bal) == "F+M+T6+P+V+H+D+X+Y"  # each step and velocity is A's or B's
     ab, ba = _splice(a, b, 10)  # in view (A and B differ on frames 9 and 10): a jump, F only
     bal = measure([a, b], [ab, ba], FEATURE_NAMES)
     assert bal.F and not bal.M and bal.T == 0 and not bal.D
@@ -62,21 +62,49 @@ def test_time_reversal_balances_frames_motion_positions_and_speeds_but_not_windo
     r = ClipData(a.frames[::-1].copy(), a.states[::-1].copy(), a.present[::-1].copy())
     r.states[..., 3:5] *= -1  # velocities point the other way
     bal = measure([a], [r], FEATURE_NAMES)
-    assert str(bal) == "F+M+P+V+H+D"  # T1 fails: the windows run backwards
+    # T1 fails: the windows run backwards; X holds only because the object goes there and back
+    # (a one-way drift does not: next test), Y because it never moves vertically
+    assert str(bal) == "F+M+P+V+H+D+X+Y"
+
+
+def _mirror(c):
+    """The clip flipped left to right (x -> 7 - x on the 8-pixel grid, vx -> -vx)."""
+    st = c.states.copy()
+    st[..., 0] = 7 - st[..., 0]
+    st[..., 3] = -st[..., 3]
+    return ClipData(c.frames[..., ::-1].copy(), st, c.present.copy())
+
+
+def test_signed_direction_level_x_needs_the_mirror_and_refuses_a_set_without_it():
+    """Energy-v4's confound (seed 4418): the reversal moves the other way, D and V cannot see it."""
+    a = _clip([0, 1, 2, 3, 4, 5, 5, 6, 6, 6, 7, 7], ys=[1, 2, 3, 4, 4, 4, 3, 2, 2, 2, 2, 2])
+    r = ClipData(a.frames[::-1].copy(), a.states[::-1].copy(), a.present[::-1].copy())
+    r.states[..., 3:5] *= -1
+    bal = measure([a], [r], FEATURE_NAMES)
+    assert bal.D and bal.V and not bal.X and not bal.Y
+    _, why = set_problems("pair", "F+M+X", [a], [r], 6, FEATURE_NAMES)
+    assert why == ["claims F+M+X but reaches F+M+P+V+H+D (lacks X)"]
+    # with the mirror of both clips in the set, every signed horizontal step and velocity occurs
+    # on both sides; the vertical ones still run the other way
+    bal = measure([a, _mirror(a)], [r, _mirror(r)], FEATURE_NAMES)
+    assert str(bal) == "F+M+P+V+H+D+X"
+    _, why = set_problems("mirrored", "F+M+X", [a, _mirror(a)], [r, _mirror(r)], 6, FEATURE_NAMES)
+    assert why == []
+    assert parse_claim("F+M+X+Y") == {"F": 1, "M": 1, "X": 1, "Y": 1}
 
 
 def test_a_branch_pair_reaches_nothing_and_claims_are_checked():
     a = _clip([0, 1, 2, 3, 4, 5, 6, 7, 7, 7, 7, 7])
     b = _clip([0, 1, 2, 3, 4, 5, 6, 7, 7, 6, 5, 4])  # bounces back
     bal = measure([a], [b], FEATURE_NAMES)
-    assert str(bal) == "H"  # the same heights (it stays on the floor); nothing else
+    assert str(bal) == "H+Y"  # the same heights (it stays on the floor), no vertical motion
     assert missing(bal, "F+M") == ["F", "M"] and missing(bal, "") == []
     _, why = set_problems("pair", "", [a], [b], 9, FEATURE_NAMES)
     assert why == []  # no claim; the prefix is shared
     _, why = set_problems("pair", "", [a], [b], 10, FEATURE_NAMES)
     assert why and "frames differ before the onset" in why[0]
     _, why = set_problems("pair", "F+M+T1", [a], [b], 9, FEATURE_NAMES)
-    assert why == ["claims F+M+T1 but reaches H (lacks F+M+T1)"]
+    assert why == ["claims F+M+T1 but reaches H+Y (lacks F+M+T1)"]
     assert parse_claim("F+M+T12+H") == {"F": 1, "M": 1, "T": 12, "H": 1}
     with pytest.raises(ValueError, match="unknown balance level 'Q'"):
         parse_claim("F+Q")

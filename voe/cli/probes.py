@@ -57,7 +57,7 @@ def validate(
     out: Path = typer.Option(None, "--out", help="Where to record the per-set balance "
                              "(default: PATH/balance.parquet)."),
 ) -> None:
-    """Check checksums, schema and the balance each matched set reaches (F, M, T_k, P, V, H, D);
+    """Check checksums, schema and the balance each matched set reaches (F, M, T_k, P, V, H, D, X, Y);
     record it; exit 1 on any problem, e.g. a set that reaches less than its concept claims."""
     from voe.io.probeset import load_probe_set
     from voe.io.validate import validate_probe_set, write_balance

@@ -7,7 +7,8 @@ stable slots, distractors, onset bookkeeping, splicing, validation), so the publ
 * ``_sample(rng, ctx) -> dict``: concept-specific parameters (JSON-able), drawn from the ranges
   in ``probes/<name>/spec.yaml``;
 * either ``_possible_pair(params, ctx) -> (A, B, mask)`` for spliced quadruplets, or
-  ``_pair(params, ctx) -> (possible, impossible, onset)`` for the pair fallback.
+  ``_pair(params, ctx) -> (possible, impossible, onset)`` for the pair fallback and for mirrored
+  pairs (the pair and its left-right mirror, ``voe.concepts.mirror``: 2 + 2 clips).
 
 Splicing (IntPhys, Physical Concepts): with two possible clips A and B and a time mask ``m``, the
 impossible clips are ``AB[t] = B[t] if m[t] else A[t]`` and ``BA`` its complement. The impossible
@@ -28,6 +29,7 @@ from typing import Any, ClassVar, Literal
 import numpy as np
 import yaml
 
+from voe.concepts.mirror import mirror, to_grid
 from voe.errors import ConceptError, ProbeSetError
 from voe.sim.rollout import Recording
 from voe.sim.scene import Body, Scene, Segment, SimConfig
@@ -43,7 +45,8 @@ LANE_X = (0.4, 9.6)
 class Clip:
     """One clip of a matched set."""
 
-    variant: str  # 'A', 'B', 'AB', 'BA' (quadruplet) or 'possible', 'impossible' (pair)
+    variant: str  # 'A', 'B', 'AB', 'BA' (quadruplet), 'possible', 'impossible' (pair; a mirrored
+    # pair adds 'mirror-possible', 'mirror-impossible')
     role: Literal["possible", "impossible"]
     rec: Recording
     onset: int
@@ -56,7 +59,7 @@ class MatchedSet:
     concept: str
     set_index: int
     seed: int
-    kind: Literal["quadruplet", "pair"]
+    kind: Literal["quadruplet", "pair", "mirrored"]
     visible: bool
     n_distractors: int
     params: dict[str, Any]
@@ -109,7 +112,9 @@ class Concept(ABC):
 
     name: ClassVar[str]  # folder name under probes/, e.g. "permanence"
     version: ClassVar[int] = 1
-    kind: ClassVar[Literal["quadruplet", "pair"]] = "quadruplet"
+    #: "mirrored": a pair whose set also holds both clips' left-right mirrors, for designs in which
+    #: the impossible clip moves the other way (``voe.concepts.mirror``).
+    kind: ClassVar[Literal["quadruplet", "pair", "mirrored"]] = "quadruplet"
     n_main: ClassVar[int] = 1  # slots used by the main event
     #: Condition names of visible and of occluded sets. A condition named "perceptual" (a violation
     #: in plain view that a change detector also sees) is kept and labelled, but does not carry the
@@ -200,7 +205,12 @@ class Concept(ABC):
             return [Clip("A", "possible", a, onset), Clip("B", "possible", b, onset),
                     Clip("AB", "impossible", ab, onset), Clip("BA", "impossible", ba, onset)]
         pos, imp, onset = self._pair(params, ctx)
-        return [Clip("possible", "possible", pos, onset), Clip("impossible", "impossible", imp, onset)]
+        pair = [Clip("possible", "possible", pos, onset), Clip("impossible", "impossible", imp, onset)]
+        if self.kind == "pair":
+            return pair
+        size = ctx.cfg.size
+        pair = [Clip(c.variant, c.role, to_grid(c.rec, size), onset) for c in pair]
+        return pair + [Clip(f"mirror-{c.variant}", c.role, mirror(c.rec, size), onset) for c in pair]
 
     # -- hooks -----------------------------------------------------------------------------------
     @abstractmethod

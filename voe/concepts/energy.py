@@ -20,6 +20,14 @@ clip on its last frame but the reversed one on the possible clip's first; v3 lef
 
 v2 (a pair: the impact replayed with restitution above one) had the impossible ball higher and
 faster than the possible one after the onset: a height and a speed scorer passed it.
+
+Why the mirror (v5): reversing time also reverses the ball's sideways drift, so on v4 the
+impossible clip moved left wherever the possible one moved right; a scorer that is not
+mirror-symmetric (all ten random pixel networks on seed 4418) separated them by direction alone.
+Each set now holds the possible clip, its reversal and the left-right mirrors of both
+(``kind = "mirrored"``): every signed horizontal step and velocity occurs on both sides (``X``).
+The vertical ones cannot (no ``Y``): a ball that loses energy at the bounce spends longer falling
+than rising, and its reversal the other way round; that asymmetry is the violation itself.
 """
 
 from __future__ import annotations
@@ -92,9 +100,11 @@ def _miss_gap(truth: np.ndarray, ball: int, cfg: SimConfig) -> float:
 
 class Energy(Concept):
     name = "energy"
-    version = 4
-    kind = "pair"
-    balance = {"visible": "F+M+P+V+H+D", "occluded": "F+M+P+V+H+D"}
+    version = 5
+    #: v5: the set also holds both clips' left-right mirrors (``voe.concepts.mirror``): the reversal
+    #: drifts the other way, and on v4 every random pixel network followed the drift (seed 4418)
+    kind = "mirrored"
+    balance = {"visible": "F+M+P+V+H+D+X", "occluded": "F+M+P+V+H+D+X"}
 
     @staticmethod
     def _distractors(rng: np.random.Generator, n: int, slots: tuple[int, ...]) -> tuple[Body, ...]:

@@ -13,10 +13,17 @@ the exact condition under which one family of such scorers ties (``../shared/VAL
   ``k`` is recorded;
 * state-space counterparts, over the objects a model is shown (``present``): ``P`` positions (per
   frame, every slot's x, y), ``V`` speeds (per frame, every slot's |v|), ``H`` heights (per frame,
-  every slot's y) and ``D`` per-step displacement (per step, every slot's |dx|, |dy|).
+  every slot's y) and ``D`` per-step displacement (per step, every slot's |dx|, |dy|);
+* signed direction: ``X`` horizontal (per step, every slot's signed dx, and per frame, every
+  slot's signed vx) and ``Y`` vertical (the same with dy, vy). ``D`` and ``V`` are blind to the
+  sign, so a set whose impossible clips move left where the possible ones move right reaches
+  them, and a scorer that is not mirror-symmetric (a random ConvGRU) still separates it by
+  direction alone: Energy-v4 on seed 4418 (``probes/energy/README.md``). ``X`` is kept apart from
+  ``Y`` because a left-right mirror balances the first in any design, while the second is, for a
+  time reversal, the law itself (a ball that gains energy spends longer rising than falling).
 
-A balance string joins the levels reached with ``+`` (``"F+M+T2+P+V+H+D"``); ``covers`` tells
-whether what a set reaches includes what its concept claims.
+A balance string joins the levels reached with ``+`` (``"F+M+T2+P+V+H+D+X+Y"``); ``missing``
+tells which levels a concept claims that a set does not reach.
 """
 
 from __future__ import annotations
@@ -30,7 +37,12 @@ from dataclasses import dataclass
 import numpy as np
 
 #: Levels in the order they are written; ``T`` carries its ``k``.
-LEVELS = ("F", "M", "T", "P", "V", "H", "D")
+LEVELS = ("F", "M", "T", "P", "V", "H", "D", "X", "Y")
+#: State levels, in the order they are written.
+STATE_LEVELS = ("P", "V", "H", "D", "X", "Y")
+#: Set kinds of two possible and two impossible clips: a spliced quadruplet (A, B, AB, BA) and a
+#: mirrored pair (a pair and its left-right mirror, ``voe.concepts.base.mirror``).
+KINDS_OF_FOUR = ("quadruplet", "mirrored")
 #: The longest window checked (``T_k`` for ``k`` up to this).
 K_MAX = 8
 
@@ -55,11 +67,13 @@ class Balance:
     V: bool
     H: bool
     D: bool
+    X: bool = False
+    Y: bool = False
 
     def __str__(self) -> str:
         parts = [n for n in ("F", "M") if getattr(self, n)]
         parts += [f"T{self.T}"] if self.T else []
-        parts += [n for n in ("P", "V", "H", "D") if getattr(self, n)]
+        parts += [n for n in STATE_LEVELS if getattr(self, n)]
         return "+".join(parts) or "none"
 
 
@@ -86,9 +100,14 @@ def _state_keys(clip: ClipData, ix: dict[str, int]) -> dict[str, list[bytes]]:
     xy = st[:, :, [ix["x"], ix["y"]]]  # (T, K, 2)
     speed = np.hypot(st[:, :, ix["vx"]], st[:, :, ix["vy"]])  # (T, K)
     both = pr[1:] & pr[:-1]  # (T-1, K)
-    step = np.abs(xy[1:] - xy[:-1])  # (T-1, K, 2)
-    return {"P": _rows(_masked(xy, pr)), "V": _rows(_masked(speed, pr)),
-            "H": _rows(_masked(xy[:, :, 1], pr)), "D": _rows(_masked(step, both))}
+    signed = xy[1:] - xy[:-1]  # (T-1, K, 2)
+    keys = {"P": _rows(_masked(xy, pr)), "V": _rows(_masked(speed, pr)),
+            "H": _rows(_masked(xy[:, :, 1], pr)), "D": _rows(_masked(np.abs(signed), both))}
+    for name, axis, vel in (("X", 0, "vx"), ("Y", 1, "vy")):
+        # one multiset of steps and velocities, tagged apart: equal iff both are equal
+        keys[name] = ([b"d" + r for r in _rows(_masked(signed[:, :, axis], both))]
+                      + [b"v" + r for r in _rows(_masked(st[:, :, ix[vel]], pr))])
+    return keys
 
 
 def _windows(digests: list[str], k: int) -> list[tuple[str, ...]]:
@@ -115,11 +134,11 @@ def measure(possible: Sequence[ClipData], impossible: Sequence[ClipData],
     while f and k < K_MAX and _equal([_windows(d, k + 1) for d in dig[0]], [_windows(d, k + 1) for d in dig[1]]):
         k += 1
     keys = [[_state_keys(c, ix) for c in cs] for cs in (possible, impossible)]
-    state = {n: _equal([kk[n] for kk in keys[0]], [kk[n] for kk in keys[1]]) for n in ("P", "V", "H", "D")}
+    state = {n: _equal([kk[n] for kk in keys[0]], [kk[n] for kk in keys[1]]) for n in STATE_LEVELS}
     return Balance(F=f, M=m, T=k, **state)
 
 
-_TOKEN = re.compile(r"^(F|M|P|V|H|D|T(\d+))$")
+_TOKEN = re.compile(r"^(F|M|P|V|H|D|X|Y|T(\d+))$")
 
 
 def parse_claim(claim: str) -> dict[str, int]:
@@ -132,7 +151,7 @@ def parse_claim(claim: str) -> dict[str, int]:
     for tok in filter(None, (t.strip() for t in claim.split("+"))):
         mt = _TOKEN.match(tok)
         if not mt:
-            raise ValueError(f"unknown balance level {tok!r} in {claim!r} (levels: F, M, T<k>, P, V, H, D)")
+            raise ValueError(f"unknown balance level {tok!r} in {claim!r} (levels: F, M, T<k>, P, V, H, D, X, Y)")
         out["T" if mt.group(2) else tok] = int(mt.group(2)) if mt.group(2) else 1
     return out
 
@@ -179,11 +198,12 @@ def set_problems(kind: str, claim: str, possible: Sequence[ClipData], impossible
                  onset: int, feature_names: Sequence[str]) -> tuple[Balance | None, list[str]]:
     """Measure one matched set and list what is wrong with it (empty: it keeps its promises).
 
-    A set must have its kind's clips (2 + 2 or 1 + 1), no impossible clip may copy a possible
-    one, a pair that claims no frame balance must at least share every frame before its onset
-    (the branch design), and the set must reach every level its concept claims.
+    A set must have its kind's clips (2 + 2 for a quadruplet or a mirrored pair, 1 + 1 for a
+    pair), no impossible clip may copy a possible one, a pair that claims no frame balance must at
+    least share every frame before its onset (the branch design), and the set must reach every
+    level its concept claims.
     """
-    want = 2 if kind == "quadruplet" else 1
+    want = 2 if kind in KINDS_OF_FOUR else 1
     if not len(possible) == want == len(impossible):
         return None, [f"{kind} set with {len(possible)} possible and {len(impossible)} impossible clips"]
     problems = []

@@ -193,7 +193,9 @@ def export_probe_set(probes: str | Path, out: str | Path, fmt: str = "mp4", size
             manifest["intphys"] = {
                 "quadruplet_blocks": sorted(kinds.index[kinds == "quadruplet"]),
                 "pair_blocks": sorted(kinds.index[kinds == "pair"]),
-                "pairs": "two runs (1, 2) per set; runs are numbered in clip-key order, not by role"}
+                "mirrored_blocks": sorted(kinds.index[kinds == "mirrored"]),
+                "pairs": "two runs (1, 2) per set; runs are numbered in clip-key order, not by role",
+                "mirrored": "four runs per set (a pair and its left-right mirror), numbered like pairs"}
         (tmp / "manifest.json").write_text(json.dumps(manifest, indent=1, sort_keys=True) + "\n")
     return manifest
 

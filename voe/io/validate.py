@@ -14,7 +14,7 @@ import numpy as np
 import pandas as pd
 
 from voe.errors import ProbeSetError
-from voe.io.balance import LEVELS, ClipData, parse_claim, set_problems
+from voe.io.balance import LEVELS, STATE_LEVELS, ClipData, parse_claim, set_problems
 from voe.io.paths import inside
 from voe.io.probeset import ROLES, ProbeSet
 from voe.io.provenance import sha256_file
@@ -135,7 +135,7 @@ def _weakest(reached: pd.Series) -> str:
     common = set.intersection(*(set(p) for p in parsed)) if parsed else set()
     parts = [lvl for lvl in ("F", "M") if lvl in common]
     parts += [f"T{min(p['T'] for p in parsed)}"] if "T" in common else []
-    parts += [lvl for lvl in ("P", "V", "H", "D") if lvl in common]
+    parts += [lvl for lvl in STATE_LEVELS if lvl in common]
     return "+".join(parts) or "none"
 
 
