@@ -19,6 +19,8 @@ def _key(effect) -> str:
 
 
 class _Shooter:
+    n_rollouts = 0
+
     def __init__(self, moves: dict[str, np.ndarray]) -> None:
         self.moves = moves
 
@@ -41,6 +43,7 @@ class _TableFitter:
                  moves: dict[str, np.ndarray] | None = None) -> None:
         moves = moves or {"": np.zeros(4), **{k: 10.0 * np.eye(4)[i] for i, k in enumerate(costs)}}  # all distinct
         self.sse, self.folds, self.refits = sse, [_Fold(costs, moves)], []
+        self.shooter = self.folds[0].shooter
 
     def refit(self, effect, fold_starts, max_nfev=None) -> FitResult:
         self.refits.append(_key(effect))
@@ -67,6 +70,8 @@ def test_the_pair_is_chosen_by_training_cost_not_by_the_singles_failed_gains():
     assert pair is not None and pair.keys == ("constant_acceleration", "angular_damping")
     assert pair.gain == window_gain(base, sse["angular_damping+constant_acceleration"])
     assert len(fitter.refits) == 3 and not any("quadratic_drag" in k for k in fitter.refits)  # top 3 only
+    again = best_pair(_TableFitter(sse, costs), results, None, base, n_jobs=2)  # forked workers: same answer
+    assert again is not None and (again.keys, again.gain) == (pair.keys, pair.gain)
 
 
 def test_the_pair_threshold_is_never_below_the_rounds_single_threshold():

@@ -87,7 +87,7 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
             group = choose(gains, {}, thr)  # beats the threshold, but its lower bound is not positive
             provisional = bool(group)
         if not group and trial is None and lower_q and len(outs) > 1 and len(keys) + 2 <= max_effects and len(pool) > 1:
-            step = _pair_step(fitter, results, current, before_sse, paired, outs[1][0], thr, q)
+            step = _pair_step(fitter, results, current, before_sse, paired, outs[1][0], thr, q, n_jobs)
             if step is not None:
                 pair, thr_pair = step
                 a, b = pair.keys
@@ -151,17 +151,18 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
 
 
 def _pair_step(fitter: FoldedFitter, results: dict[str, FitResult], current: FitResult | None, before_sse: np.ndarray,
-               null: NullSearch, null_results: dict[str, FitResult], thr: float, q: float) -> tuple[Pair, float] | None:
+               null: NullSearch, null_results: dict[str, FitResult], thr: float, q: float,
+               n_jobs: int = 1) -> tuple[Pair, float] | None:
     """The data's best jointly fitted pair and its threshold, if it passes (``voe.gap.pairs``).
 
     The null's identical pair step (its own round's results, before its forced candidate is
     refined in) is run only when the data's pair beats the single threshold with a positive
     lower bound: it can only raise the bar, so skipping it otherwise changes no answer.
     """
-    pair = best_pair(fitter, results, current, before_sse)
+    pair = best_pair(fitter, results, current, before_sse, n_jobs=n_jobs)
     if pair is None or pair.gain <= thr or gain_lower_bound(before_sse, pair.result.window_sse, q=q) <= 0:
         return None
-    null_pair = best_pair(null.fitter, null_results, null.current, null.before_sse)
+    null_pair = best_pair(null.fitter, null_results, null.current, null.before_sse, n_jobs=n_jobs)
     thr_pair = pair_threshold(null_pair, null.before_sse, thr, null.alpha, null.seed)
     return (pair, thr_pair) if pair.gain > thr_pair else None
 

@@ -28,6 +28,7 @@ from voe.gap.effects.base import EffectSum
 from voe.gap.fit import FitResult
 from voe.gap.folds import FoldedFitter
 from voe.gap.search import null_threshold, window_gain
+from voe.parallel import parallel_map
 
 PAIR_TOP = 3  # candidates of lowest training cost whose pairs are fitted (3 pairs)
 
@@ -48,19 +49,28 @@ def _train_cost(fitter: FoldedFitter, res: FitResult) -> float:
 
 
 def best_pair(fitter: FoldedFitter, results: dict[str, FitResult], current: FitResult | None,
-              before_sse: np.ndarray, top: int = PAIR_TOP) -> Pair | None:
+              before_sse: np.ndarray, top: int = PAIR_TOP, n_jobs: int = 1) -> Pair | None:
     """Fit the pairs of the ``top`` candidates of lowest training cost jointly (each from the two
-    singles' fitted parameters, every fold its own); the pair of highest selection gain."""
+    singles' fitted parameters, every fold its own, in ``n_jobs`` processes); the pair of
+    highest selection gain (each fit deterministic: the answer does not depend on ``n_jobs``)."""
     n_cur = 0 if current is None else current.params.size
     costs = {k: _train_cost(fitter, r) for k, r in results.items() if np.all(np.isfinite(r.params))}
     ranked = distinct(fitter, results, current, sorted((k for k in costs if np.isfinite(costs[k])),
                                                         key=lambda k: costs[k]), top)
     best: Pair | None = None
-    for a, b in combinations(ranked, 2):
-        ra, rb = results[a], results[b]
+    pairs = list(combinations(ranked, 2))
+
+    def fit(ab: tuple[str, str]) -> tuple[FitResult, int]:
+        ra, rb = results[ab[0]], results[ab[1]]
         parts = ra.effect.parts + (rb.effect.parts[-1],)
         starts = tuple(np.concatenate([pa, pb[n_cur:]]) for pa, pb in zip(ra.fold_params, rb.fold_params, strict=True))
-        res = fitter.refit(EffectSum(parts), starts)
+        n0 = fitter.shooter.n_rollouts
+        return fitter.refit(EffectSum(parts), starts), fitter.shooter.n_rollouts - n0
+
+    fits = list(parallel_map(fit, pairs, n_jobs, start_method="fork"))  # forked workers inherit the fitter
+    if n_jobs > 1 and len(pairs) > 1:
+        fitter.shooter.n_rollouts += sum(n for _, n in fits)  # counted in the workers' copies
+    for (a, b), (res, _) in zip(pairs, fits, strict=True):
         gain = window_gain(before_sse, res.window_sse)
         if np.isfinite(gain) and (best is None or gain > best.gain):
             best = Pair((a, b), res, float(gain))
