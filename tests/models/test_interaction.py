@@ -132,3 +132,26 @@ def test_trace_reports_the_rolled_out_prediction_of_every_step():
     np.testing.assert_allclose(np.diff(x[HIDE:BACK]), 3.0 * 0.05, atol=1e-3)
     lv = torch.stack([s[1][0, 0, 0] for s in steps]).numpy()
     assert (np.diff(lv[HIDE:BACK - 1]) > 0).all()  # the carried variance grows while hidden
+
+
+def test_frame_parts_split_each_frame_exactly_and_name_the_remembered_feature():
+    """``frame_parts`` sums to ``rollout_nll`` on every frame (a random network, hidden stretch
+    included); and when only the ball's brightness differs after its hidden stretch, the whole
+    difference of the reappearance frame sits in the ``intensity`` part (``bench/splice_blame.py``)."""
+    from voe.controls.random_nets import random_network
+    from voe.models.interaction import PARTS, frame_parts, rollout_nll
+
+    m = _persistent(random_network("interaction-v3", 1))
+    a, b = _clip(1.0, 3.0), _clip(1.0, 3.0)
+    b[0][BACK:, 0, 10] = 0.5  # the same ball comes back dimmer (column 10: intensity)
+    d = m.prepare(_batch([a, b]))
+    m.net.eval()
+    with torch.no_grad():
+        parts = frame_parts(m.net, d).numpy()  # (2, T, K, 11)
+        total = rollout_nll(m.net, d).numpy()  # (2, T)
+    assert parts.shape == (2, T, 2, len(PARTS))
+    np.testing.assert_allclose(parts.sum((2, 3)), total, rtol=1e-12, atol=1e-9)
+    diff = (parts[1, BACK] - parts[0, BACK]).sum(0)  # (11,) per part, slots summed
+    assert abs(diff[PARTS.index("intensity")]) > 0.1
+    assert np.abs(np.delete(diff, PARTS.index("intensity"))).max() < 1e-9
+    np.testing.assert_allclose(parts[:, :BACK], parts[:, :BACK][::-1])  # equal before the return

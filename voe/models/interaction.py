@@ -31,8 +31,9 @@ from torch import nn
 
 from voe.io.batch import Batch
 from voe.models import slot_rollout as sr
+from voe.models import statelik as sl
 from voe.models.rollout_heads import IntegratorHead, RolloutHead
-from voe.models.state_head import DELTA_SCALE, bounded_logvar, frame_cost
+from voe.models.state_head import DELTA_SCALE, bounded_logvar, cell_nll, frame_cost
 from voe.models.torchbase import TorchModel
 
 OUT = 18  # presence, 6 mean corrections, 9 log-variances, shape, exist correction
@@ -79,14 +80,14 @@ class InteractionModule(nn.Module):
 
 
 def rollout_nll(net: InteractionModule, d: dict[str, torch.Tensor],
-                trace: list[tuple[torch.Tensor, torch.Tensor]] | None = None) -> torch.Tensor:
+                trace: list[tuple[torch.Tensor, ...]] | None = None) -> torch.Tensor:
     """Surprise ``(B, T)`` of every frame given the frames before it (frame 0 set to 0).
 
     Frame by frame: the slot state is the observation where a slot is visible and the model's own
     prediction elsewhere; the network predicts frame t+1 from the state at t only, so the result is
     causal by construction and each clip is processed on its own. ``trace`` (diagnostics,
     ``bench/hidden_rollout.py``): each step appends the predicted mean and log-variance of frame
-    t+1, ``(B, K, 9)`` each.
+    t+1, ``(B, K, 9)`` each, then the presence and shape logits, ``(B, K)`` each (``frame_parts``).
     """
     head = net.head
     obs, pres, circ_obs = d["obs"], d["present"], d["circle"]  # (B, T, K, 9), (B, T, K), (B, T, K)
@@ -120,7 +121,7 @@ def rollout_nll(net: InteractionModule, d: dict[str, torch.Tensor],
                    + head.presence_screen(torch.stack([hid, outside], -1).to(out)).squeeze(-1))
         s_logit = head.shape_logit(out[..., 16], circ)
         if trace is not None:
-            trace.append((mean[..., :9].detach(), lv_next.detach()))
+            trace.append((mean[..., :9].detach(), lv_next.detach(), p_logit.detach(), s_logit.detach()))
         cost = _frame_cost(head, mean[..., :9], lv_next, p_logit, s_logit, obs[:, t + 1], pres[:, t + 1],
                            circ_obs[:, t + 1], f64)
         frames.append(cost)
@@ -136,6 +137,35 @@ def _frame_cost(head: RolloutHead, mean: torch.Tensor, lv: torch.Tensor, p_logit
     if f64:
         mean, lv, p_logit, s_logit, obs, circ = (v.double() for v in (mean, lv, p_logit, s_logit, obs, circ))
     return frame_cost(head, mean, lv, p_logit, s_logit, obs, pres, circ)
+
+
+#: the parts of a frame's surprise ``frame_parts`` separates, in its last axis
+PARTS = ("presence", "shape", *sl.CONT)
+
+
+def frame_parts(net: InteractionModule, d: dict[str, torch.Tensor]) -> torch.Tensor:
+    """Each frame's surprise split by slot and part, ``(B, T, K, 11)`` (``PARTS``), float64.
+
+    Why: a matched set is decided by a few nats on a few frames, and *which* part of the
+    prediction carries them tells a physical expectation (presence, position, speed of a hidden
+    object) from an incidental one (a remembered brightness): ``bench/splice_blame.py`` reads it.
+    Summed over slots and parts it is ``rollout_nll`` exactly (frame 0 is 0); absent slots carry
+    only their presence cost. Evaluation mode (the scoring path) only.
+    """
+    if net.training:
+        raise ValueError("frame_parts: put the network in evaluation mode first (net.eval())")
+    steps: list[tuple[torch.Tensor, ...]] = []
+    rollout_nll(net, d, steps)
+    obs, pres, circ = d["obs"][:, 1:].double(), d["present"][:, 1:], d["circle"][:, 1:].double()  # (B, T-1, K, ...)
+    mean, lv, p_logit, s_logit = (torch.stack([s[i] for s in steps], 1).double() for i in range(4))
+    gauss = cell_nll(sr.wrap(obs - mean), lv, obs, net.head)  # (B, T-1, K, 9)
+    bce = nn.functional.binary_cross_entropy_with_logits
+    presence = bce(p_logit, pres.to(p_logit), reduction="none")  # (B, T-1, K)
+    shape = bce(s_logit, circ, reduction="none")
+    here = pres[..., None]
+    parts = torch.cat([presence[..., None], torch.where(here, shape[..., None], 0.0),
+                       torch.where(here, gauss, 0.0)], -1)  # (B, T-1, K, 11)
+    return torch.cat([parts.new_zeros(parts[:, :1].shape), parts], 1)  # (B, T, K, 11)
 
 
 class InteractionNet(TorchModel):
