@@ -88,6 +88,21 @@ def test_checkpoint_with_other_architecture_is_refused(mlp_ckpt, tmp_path):
         load_model("mlp", checkpoint=bad)
 
 
+@pytest.mark.parametrize("field, value, says", [
+    ("hidden", 10 ** 12, "hidden must be an integer"), ("layers", -1, "layers must be an integer"),
+    ("k", 2.5, "k must be an integer"), ("hidden", 60000, "parameters"), ("seed", True, "seed must be")])
+def test_a_damaged_config_is_refused_in_one_line_before_any_memory_is_taken(mlp_ckpt, tmp_path, field, value, says):
+    bad = tmp_path / "bad"
+    bad.mkdir()
+    cfg = json.loads((mlp_ckpt / "config.json").read_text())
+    cfg["config"][field] = value
+    (bad / "config.json").write_text(json.dumps(cfg))
+    (bad / "weights.safetensors").write_bytes((mlp_ckpt / "weights.safetensors").read_bytes())
+    with pytest.raises(CheckpointError, match=f"config.json: .*{says}") as err:
+        load_model("mlp", checkpoint=bad)
+    assert "\n" not in str(err.value)
+
+
 def test_checkpoint_with_other_feature_layout_is_refused(mlp_ckpt, tiny_batch):
     model = load_model("mlp", checkpoint=mlp_ckpt)
     names = tuple(f"{n}_renamed" if n == "intensity" else n for n in tiny_batch.feature_names)

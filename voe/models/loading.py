@@ -79,7 +79,10 @@ def load_model(ref: str, args: dict[str, Any] | None = None, checkpoint: Path | 
     if clash:
         raise CheckpointError(f"checkpoint {checkpoint} has {({k: config[k] for k in clash})}, "
                               f"which --model-arg {clash} would change; retrain instead")
-    model = _construct(ref, factory, {**config, **args})
+    try:
+        model = _construct(ref, factory, {**config, **args})
+    except VoeError as exc:  # a damaged config.json: name the file, not just the arguments
+        raise CheckpointError(f"{Path(checkpoint) / 'config.json'}: {exc}") from exc
     if hasattr(model, "load_weights"):
         model.load_weights(load_tensors(Path(checkpoint)), str(checkpoint))
         model.layout = meta.get("feature_layout")

@@ -9,6 +9,7 @@ surprise, NaN-free, meaningless before ``warmup``). Training code lives in ``voe
 
 from __future__ import annotations
 
+import math
 from dataclasses import asdict, fields
 from typing import Any, ClassVar
 
@@ -17,6 +18,28 @@ import torch
 
 from voe.errors import CheckpointError
 from voe.io.batch import Batch
+
+#: Largest size an integer config field may take (``seed`` excepted), and largest network a
+#: config may build. Why: a config comes from a checkpoint's ``config.json``, which may be damaged
+#: or hostile; ``hidden = 10**12`` or ``layers = 10**9`` must be refused in one line, not fill memory
+#: or loop for hours. voe's networks have well under a million parameters.
+MAX_SIZE, MAX_PARAMS = 1 << 16, 100_000_000
+
+
+def check_config(config: Any) -> None:
+    """Refuse a config whose fields are not what their types say, or that builds an absurd network.
+
+    Raises:
+        TypeError: naming the field (``voe.models.loading`` turns it into a one-line error).
+    """
+    for f in fields(config):
+        v, kind = getattr(config, f.name), f.type if isinstance(f.type, str) else f.type.__name__
+        if kind == "int":
+            top = 1 << 63 if f.name == "seed" else MAX_SIZE
+            if isinstance(v, bool) or not isinstance(v, int) or not 0 <= v <= top:
+                raise TypeError(f"config field {f.name} must be an integer in [0, {top}], got {v!r}")
+        elif kind == "float" and (isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v)):
+            raise TypeError(f"config field {f.name} must be a finite number, got {v!r}")
 
 
 class TorchModel:
@@ -34,7 +57,12 @@ class TorchModel:
         if unknown:
             raise TypeError(f"unexpected argument(s) {unknown}; {type(self).__name__} takes {sorted(known)}")
         self.config = self.Config(**kwargs)
+        check_config(self.config)
         self.name = self.model_id.split("-v")[0]
+        with torch.device("meta"):  # sized without allocating: a damaged config must not fill memory
+            n = sum(p.numel() for p in self.build().parameters())
+        if n > MAX_PARAMS:
+            raise TypeError(f"config {asdict(self.config)} builds {n:,} parameters (at most {MAX_PARAMS:,})")
         torch.manual_seed(self.config.seed)
         self.net: torch.nn.Module = self.build()
         self.layout: dict[str, Any] | None = None  # set by training / checkpoint
