@@ -176,11 +176,8 @@ class PhysicsOracle(PointPredictorAdapter):
         E = self.elasticities
         H = len(E)
         ix = {n: i for i, n in enumerate(names)}
-        geo = self._geometry(geo)
-        statics, occluders = geometry_from_dict(geo)
-        extent = tuple(geo.get("extent", (10.0, 10.0)))
-        # an object within a pixel of a screen's edge is drawn (anti-aliasing), so it is present
-        env = (statics, occluders, tuple(geo.get("gravity", (0.0, -9.81))), extent, dt, ix, extent[0] / width_px)
+        statics, occluders, gravity, extent, pixel = self._view(geo, width_px)
+        env = (statics, occluders, gravity, extent, dt, ix, pixel)
         pred = np.full((H, T, K, F), np.nan)
         pvis = np.full((H, T, K), np.nan)
         contact = np.zeros((H, T, K), dtype=bool)
@@ -205,11 +202,24 @@ class PhysicsOracle(PointPredictorAdapter):
             contact[:, t + 1] = hit
             for k in known:
                 cur[:, k] = nxt[:, k]
-                pvis[:, t + 1, k] = np.where(vis[:, k], self.p_visible, 1 - self.p_visible)
+                pvis[:, t + 1, k] = self._p_present(vis[:, k])
             pred[:, t + 1] = cur
             cur[:, self._forget(present[t + 1])] = np.nan
             self._unseen(cur, ~present[t + 1], ix)
         return pred, pvis, contact
+
+    def _view(self, geo: dict[str, Any], width_px: int) -> tuple[Any, Any, tuple[float, float], tuple[float, float], float]:
+        """The clip's world as this oracle sees it (``_geometry``: a lesion may change it): statics,
+        occluders, gravity, extent and the pixel size (an object within a pixel of a screen's edge
+        is drawn, anti-aliased, so it is present)."""
+        geo = self._geometry(geo)
+        statics, occluders = geometry_from_dict(geo)
+        extent = tuple(geo.get("extent", (10.0, 10.0)))
+        return statics, occluders, tuple(geo.get("gravity", (0.0, -9.81))), extent, extent[0] / width_px
+
+    def _p_present(self, vis: np.ndarray) -> np.ndarray:
+        """P(present) of objects predicted visible (``vis`` bool) or not."""
+        return np.where(vis, self.p_visible, 1 - self.p_visible)
 
     # -- hooks for lesioned variants (voe.controls.lesions) ---------------------------------
     def _geometry(self, geo: dict[str, Any]) -> dict[str, Any]:
@@ -253,13 +263,10 @@ class PhysicsOracle(PointPredictorAdapter):
         names = one.feature_names
         idx = sl.cont_index(names)
         pred, pvis, contact = self._simulate(one) if grid is None else grid
-        geo = self._geometry(one.geometry[0])
-        _, occluders = geometry_from_dict(geo)
-        extent = tuple(geo.get("extent", (10.0, 10.0)))
-        pixel = extent[0] / one.frames.shape[-1]
+        _, occluders, _, extent, pixel = self._view(one.geometry[0], one.frames.shape[-1])
 
         def p_vis(s: np.ndarray) -> np.ndarray:
-            return np.where(visible(s, occluders, extent, pixel), self.p_visible, 1 - self.p_visible)
+            return self._p_present(visible(s, occluders, extent, pixel))
 
         scored = one.present[0].copy()  # (T, K) compared with an observation
         scored[0] = False
