@@ -41,7 +41,7 @@ LEVELS = ("F", "M", "T", "P", "V", "H", "D", "X", "Y")
 #: State levels, in the order they are written.
 STATE_LEVELS = ("P", "V", "H", "D", "X", "Y")
 #: Set kinds of two possible and two impossible clips: a spliced quadruplet (A, B, AB, BA) and a
-#: mirrored pair (a pair and its left-right mirror, ``voe.concepts.base.mirror``).
+#: mirrored pair (a pair and its left-right mirror, ``voe.concepts.mirror``).
 KINDS_OF_FOUR = ("quadruplet", "mirrored")
 #: The longest window checked (``T_k`` for ``k`` up to this).
 K_MAX = 8
@@ -138,7 +138,8 @@ def measure(possible: Sequence[ClipData], impossible: Sequence[ClipData],
     return Balance(F=f, M=m, T=k, **state)
 
 
-_TOKEN = re.compile(r"^(F|M|P|V|H|D|X|Y|T(\d+))$")
+_PLAIN = [n for n in LEVELS if n != "T"]  # levels written without a number
+_TOKEN = re.compile(rf"^({'|'.join(_PLAIN)}|T(\d+))$")
 
 
 def parse_claim(claim: str) -> dict[str, int]:
@@ -151,7 +152,7 @@ def parse_claim(claim: str) -> dict[str, int]:
     for tok in filter(None, (t.strip() for t in claim.split("+"))):
         mt = _TOKEN.match(tok)
         if not mt:
-            raise ValueError(f"unknown balance level {tok!r} in {claim!r} (levels: F, M, T<k>, P, V, H, D, X, Y)")
+            raise ValueError(f"unknown balance level {tok!r} in {claim!r} (levels: {', '.join(n if n != 'T' else 'T<k>' for n in LEVELS)})")
         out["T" if mt.group(2) else tok] = int(mt.group(2)) if mt.group(2) else 1
     return out
 
