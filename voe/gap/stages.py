@@ -155,9 +155,14 @@ def fit_windows(p: Problem, ids: tuple[int, ...], config: GapConfig) -> list[Win
 
 def _folded(p: Problem, shooter: Shooter, episodes: list[Episode], bad: dict[int, np.ndarray], config: GapConfig,
             seed: int) -> FoldedFitter:
-    """One ``Fitter`` per fold on ``episodes`` (the data or its clean replicate: same windows).
+    """One ``Fitter`` per fold on ``episodes`` (the data or its clean replicate), windows cut by
+    ``bad`` (per episode, (T,) starts refused), which must be the contacts of ``episodes`` themselves.
 
-    The same seed draws the same window subsample for the data and the null.
+    Why its own contacts: the replicate follows the nominal physics from each episode's first
+    state, so its impacts fall elsewhere than the data's; cut by the data's, its windows started
+    inside its own impacts, where any damping candidate "gains" on the garbage start velocity and
+    the threshold rose (development case 1531056: 7 of 15 null selection windows). The same seed
+    draws the subsample for the data and the null.
     """
     rng = np.random.default_rng(seed)
     w = config.fit_window
