@@ -353,7 +353,7 @@ def test_a_dropped_winner_is_replaced_by_the_next_member_of_its_group():
 
     def refit(eff, starts, nfev):
         calls.append((eff, starts))
-        return FitResult(eff, starts[0], 0.0, 0.0, np.full(3, 0.25), tuple(starts))  # gains 50 % against 1.0
+        return FitResult(eff, starts[0], 0.0, 0.0, np.zeros(3), tuple(starts))
 
     drag, spring, attractor = (EFFECTS.get(n)() for n in ("linear_drag", "spring_anchor", "point_attractor"))
     results = {"spring_anchor": FitResult(drag + spring, np.array([0.1, 0.09, 0.9, 3.5]), 0, 0),
@@ -362,14 +362,13 @@ def test_a_dropped_winner_is_replaced_by_the_next_member_of_its_group():
                 ("spring_anchor", "point_attractor"))
     s = SimpleNamespace(fitter=SimpleNamespace(refit=refit, config=SimpleNamespace(refine_nfev=10)))
     rest = EFFECTS.get("linear_drag")()
-    base = np.ones(3)  # (W,) selection SSE without the dropped part
-    model, key = _alternative(s, rnd, {"spring_anchor", "linear_drag"}, rest, (np.array([0.12]),), base, 0.05)
+    model, key = _alternative(s, rnd, {"spring_anchor", "linear_drag"}, rest, (np.array([0.12]),))
     assert key == "point_attractor" and [e.name for e in model.effect.parts] == ["linear_drag", "point_attractor"]
     np.testing.assert_array_equal(calls[0][1][0], [0.12, 1.4, 1.0, 1.9])  # the rest's params, then the member's own
-    alone, _ = _alternative(s, rnd, {"spring_anchor"}, None, (np.zeros(0),), base, 0.05)
+    alone, _ = _alternative(s, rnd, {"spring_anchor"}, None, (np.zeros(0),))
     np.testing.assert_array_equal(alone.params, [1.4, 1.0, 1.9])
-    assert _alternative(s, rnd, {"spring_anchor", "point_attractor"}, None, (np.zeros(0),), base, 0.05) is None
-    assert _alternative(s, None, set(), None, (np.zeros(0),), base, 0.05) is None
+    assert _alternative(s, rnd, {"spring_anchor", "point_attractor"}, None, (np.zeros(0),)) is None
+    assert _alternative(s, None, set(), None, (np.zeros(0),)) is None
 
 
 def test_explanation_does_not_claim_a_cut_when_the_test_error_rises():
