@@ -36,7 +36,7 @@ def test_a_rolling_balls_slip_from_its_start_estimate_is_not_read_as_drag():
     ctx = context_for(scene, [ep])
     h, g, _ = window_terms(sh, sigma, [w], drag, c, ctx)
     plain = c - np.linalg.solve(h[0], g[0])
-    hp, gp = profiled_terms(sh, sigma, w, drag, c, ctx)
+    (hp, gp), = profiled_terms(sh, sigma, [w], drag, c, ctx)
     profiled = c - np.linalg.solve(hp, gp)
     assert abs(plain[0] - c[0]) > 0.02  # the slip reads as a different drag
     assert abs(profiled[0] - c[0]) < 0.25 * abs(plain[0] - c[0])

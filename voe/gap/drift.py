@@ -149,9 +149,11 @@ def drifts(shooter: Shooter, sigma: np.ndarray, windows: list[Window], effect: E
     ``SLOT`` of episode time form one subsample, each compared with all other windows.
     """
     kept, terms = [], []
-    for w in windows:  # per window, so each term keeps its window's time
-        if PROFILE and not shooter.scene.joints:  # start velocity profiled out (voe.gap.nuisance)
-            t = profiled_terms(shooter, sigma, w, effect, params, ctx, f_scale)
+    profile = PROFILE and not shooter.scene.joints
+    prof = profiled_terms(shooter, sigma, windows, effect, params, ctx, f_scale) if profile else None
+    for i, w in enumerate(windows):  # per window, so each term keeps its window's time
+        if prof is not None:  # start velocity profiled out (voe.gap.nuisance)
+            t = prof[i]
         else:
             h, g, _ = window_terms(shooter, sigma, [w], effect, params, ctx, f_scale)
             t = (h[0], g[0]) if len(h) else None

@@ -29,51 +29,58 @@ DV = 0.01  # m/s (angular: per sqrt(I/m) metres) finite-difference step of a sta
 RCOND = 1e-9  # relative cut of the velocity block's pseudo-inverse (a velocity the window never shows)
 
 
-def profiled_terms(shooter: Shooter, sigma: np.ndarray, w: Window, effect: Effect, params: np.ndarray,
-                   ctx: FitContext, f_scale: float = 3.0) -> tuple[np.ndarray, np.ndarray] | None:
-    """(P, P) curvature and (P,) gradient of window ``w``'s soft-L1 cost at ``params``, its start
-    velocity (B, 3) profiled out; None if the prediction is not finite.
+def profiled_terms(shooter: Shooter, sigma: np.ndarray, windows: list[Window], effect: Effect, params: np.ndarray,
+                   ctx: FitContext, f_scale: float = 3.0) -> list[tuple[np.ndarray, np.ndarray] | None]:
+    """Per window, the (P, P) curvature and (P,) gradient of its soft-L1 cost at ``params``, its
+    start velocity (B, 3) profiled out; None for a window whose prediction is not finite.
 
     The parameter columns are those of ``voe.gap.uncertainty.window_terms`` (same steps, same
     weights); the velocity columns step each body's velocity component by ``DV`` (angular ones
-    by ``DV`` / sqrt(I/m), so every step moves a pose-equivalent metre scale alike).
+    by ``DV`` / sqrt(I/m), so every step moves a pose-equivalent metre scale alike). All windows
+    and steps are simulated side by side (``run_many``): 1 + 3B + P rollouts per window.
     """
-    sc, ep = shooter.scene, shooter.episodes[w.ep]
-    pose0, vel0 = shooter.initial(w.ep, w.k0)[:2]
-    times = ep.t[w.k0:w.k1 + 1]
-    wt = shooter.scale[None] / shooter.sigma_pred(w, sigma)  # (n, B, 3) metres, then noise units
-    data = ep.pose[w.k0:w.k1 + 1]
-
-    def flat(pred: np.ndarray) -> np.ndarray:
-        return ((pred - data) * wt).reshape(-1)
-
-    n_b = vel0.shape[0]
+    sc = shooter.scene
     steps = DV / shooter.scale  # (B, 3) velocity steps
-    starts = [(pose0, vel0)]
-    for b in range(n_b):
-        for j in range(3):
-            v = vel0.copy()
-            v[b, j] += steps[b, j]
-            starts.append((pose0, v))
-    runs = run_many(sc, starts, [times] * len(starts), shooter.substep, effect, params)
-    r0 = flat(runs[0])
-    if not np.all(np.isfinite(r0)):
-        return None
-    jv = np.stack([(flat(x) - r0) / s for x, s in zip(runs[1:], steps.reshape(-1), strict=True)], axis=1)  # (N, 3B)
+    n_v = steps.size
+    starts, times, data, wts = [], [], [], []
+    for w in windows:
+        ep = shooter.episodes[w.ep]
+        pose0, vel0 = shooter.initial(w.ep, w.k0)[:2]
+        times.append(ep.t[w.k0:w.k1 + 1])
+        data.append(ep.pose[w.k0:w.k1 + 1])
+        wts.append(shooter.scale[None] / shooter.sigma_pred(w, sigma))  # (n, B, 3) metres, then noise units
+        starts.append((pose0, vel0))
+        for i in range(n_v):
+            v = vel0.copy().reshape(-1)
+            v[i] += steps.reshape(-1)[i]
+            starts.append((pose0, v.reshape(vel0.shape)))
+    rep = [t for t in times for _ in range(1 + n_v)]
+    runs = run_many(sc, starts, rep, shooter.substep, effect, params)  # (1 + 3B) per window
     lo_b, hi_b = effect.bounds(ctx)
     scale = effect.scale(ctx)
-    jp = np.zeros((r0.size, len(params)))
+    moved, dps = [], []
     for j in range(len(params)):
         step = 0.1 * scale[j]
-        up = params[j] + step <= hi_b[j]
+        dp = step if params[j] + step <= hi_b[j] else -step
         p = params.copy()
-        p[j] += step if up else -step
-        jp[:, j] = (flat(run_many(sc, [(pose0, vel0)], [times], shooter.substep, effect, p)[0]) - r0) / (step if up else -step)
-    shooter.n_rollouts += len(starts) + len(params)
-    if not (np.all(np.isfinite(jv)) and np.all(np.isfinite(jp))):
-        return None
-    irls = 1.0 / np.sqrt(1.0 + (r0 / f_scale) ** 2)  # soft-L1 weights at the fit
-    hpp, hpv, hvv = (jp * irls[:, None]).T @ jp, (jp * irls[:, None]).T @ jv, (jv * irls[:, None]).T @ jv
-    gp, gv = (jp * irls[:, None]).T @ r0, (jv * irls[:, None]).T @ r0
-    k = hpv @ np.linalg.pinv(hvv, rcond=RCOND, hermitian=True)  # (P, 3B)
-    return hpp - k @ hpv.T, gp - k @ gv
+        p[j] += dp
+        moved.append(run_many(sc, starts[::1 + n_v], times, shooter.substep, effect, p))
+        dps.append(dp)
+    shooter.n_rollouts += len(starts) + len(params) * len(windows)
+    out: list[tuple[np.ndarray, np.ndarray] | None] = []
+    for i in range(len(windows)):
+        def flat(pred: np.ndarray, i: int = i) -> np.ndarray:
+            return ((pred - data[i]) * wts[i]).reshape(-1)
+
+        r0 = flat(runs[i * (1 + n_v)])
+        jv = np.stack([(flat(runs[i * (1 + n_v) + 1 + k]) - r0) / steps.reshape(-1)[k] for k in range(n_v)], axis=1)
+        jp = np.stack([(flat(moved[j][i]) - r0) / dps[j] for j in range(len(params))], axis=1)  # (N, P)
+        if not (np.all(np.isfinite(r0)) and np.all(np.isfinite(jv)) and np.all(np.isfinite(jp))):
+            out.append(None)
+            continue
+        irls = 1.0 / np.sqrt(1.0 + (r0 / f_scale) ** 2)  # soft-L1 weights at the fit
+        jpw, jvw = jp * irls[:, None], jv * irls[:, None]
+        hpv, hvv = jpw.T @ jv, jvw.T @ jv
+        k = hpv @ np.linalg.pinv(hvv, rcond=RCOND, hermitian=True)  # (P, 3B)
+        out.append((jpw.T @ jp - k @ hpv.T, jpw.T @ r0 - k @ (jvw.T @ r0)))
+    return out
