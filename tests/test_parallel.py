@@ -174,3 +174,35 @@ def test_a_signal_sent_from_another_thread_while_forking_waits_for_the_fork_to_e
         assert signal.getsignal(signal.SIGTERM) is handler
     finally:
         signal.signal(signal.SIGTERM, old)
+
+
+_INTERRUPT_MID_RESULT = """
+import os, signal, threading
+from voe.parallel import parallel_map
+
+def big(i):
+    return b"x" * (8 << 20)  # many pipe buffers: a worker is killed in the middle of sending one
+
+def interrupted(signum, frame):
+    raise KeyboardInterrupt  # what voe.cli.main's SIGTERM handler raises
+
+signal.signal(signal.SIGTERM, interrupted)
+try:
+    for n, _ in enumerate(parallel_map(big, range(400), 2)):
+        if n == 0:  # the workers are busy sending results from now on
+            threading.Timer(0.2, os.kill, (os.getpid(), signal.SIGTERM)).start()
+except KeyboardInterrupt:
+    print("stopped")
+"""
+
+
+@pytest.mark.parametrize("attempt", range(3))
+def test_an_interrupt_while_workers_send_large_results_ends_instead_of_hanging(attempt):
+    """Workers killed mid-send left a partial message that the pool's manager thread waited on
+    forever (the command hung at shutdown with defunct workers). Fails (times out) on the old code."""
+    import subprocess
+    import sys
+
+    proc = subprocess.run([sys.executable, "-c", _INTERRUPT_MID_RESULT], capture_output=True, text=True,
+                          timeout=60, cwd=VOE.parent)
+    assert proc.returncode == 0 and proc.stdout.strip() == "stopped", proc.stderr

@@ -157,12 +157,34 @@ def parallel_map(fn: Callable[[T], R], items: Iterable[T], jobs: int = 1,
             if progress:
                 progress(1)
     except KeyboardInterrupt:  # Ctrl-C or SIGTERM (voe.cli.main) sent to this process alone:
-        for proc in list((getattr(pool, "_processes", None) or {}).values()):
-            proc.terminate()  # stop the workers now instead of waiting out their items
+        _stop_workers(pool)  # now, instead of waiting out their items
         raise
     finally:
         pool.shutdown(wait=True, cancel_futures=True)
         _FNS.pop(token, None)
+
+
+def _stop_workers(pool: ProcessPoolExecutor) -> None:
+    """Terminate the pool's workers, reap them, and unblock the pool's reader of their results.
+
+    Why the last step: a worker killed half-way through sending a result (more than a pipe's
+    buffer) leaves a partial message in the result pipe. The pool's manager thread then waits in
+    ``recv`` for the rest, forever, because this process still holds a write end of that pipe;
+    ``shutdown(wait=True)`` joins that thread, and the interrupted command hung with its workers
+    defunct (1 CI run in 6, ``tests/reliability/test_kill.py``). With every worker gone, closing
+    our write end turns the wait into end-of-file, which the pool handles as a broken pool.
+    """
+    procs = list((getattr(pool, "_processes", None) or {}).values())
+    for proc in procs:
+        proc.terminate()
+    for proc in procs:
+        proc.join(10)
+        if proc.is_alive():  # SIGTERM is SIG_DFL in workers; a worker stuck in C may need SIGKILL
+            proc.kill()
+            proc.join()
+    writer = getattr(getattr(pool, "_result_queue", None), "_writer", None)
+    if writer is not None:
+        writer.close()
 
 
 def _serial(fn: Callable[[T], R], items: Iterable[T], progress: Callable[[int], None] | None) -> Iterator[R]:
