@@ -16,6 +16,7 @@ to the last bit as when it is simulated by itself (``tests/gap/test_lockstep.py`
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable
 
@@ -40,21 +41,28 @@ def _on_arbiter(body: object, arb: object, data: object) -> None:
     _TOUCH[0] = True
 
 
-def schedule(times: np.ndarray, substep: float) -> tuple[list[float], list[int]]:
+def schedule(times: np.ndarray, substep: float) -> tuple[tuple[float, ...], tuple[int, ...]]:
     """The substeps ``SimWorld.run`` takes through ``times`` (T,).
 
     Returns:
         h: length of every substep, in order; ends: after how many substeps each sample k >= 1
         is recorded (T - 1 counts).
+
+    The same numbers as ``SimWorld.run``'s loop (``n = max(1, round(dt / substep))`` substeps of
+    ``dt / n``: numpy's round also rounds half to even, and float64 division is IEEE's), computed
+    with arrays and remembered per window: a fit simulates the same window hundreds of times.
     """
-    h: list[float] = []
-    ends: list[int] = []
-    dts = np.diff(times).tolist()
-    for dt in dts:
-        n = max(1, round(dt / substep))
-        h.extend([dt / n] * n)
-        ends.append(len(h))
-    return h, ends
+    return _plan(np.ascontiguousarray(times, dtype=float).tobytes(), float(substep))[:2]
+
+
+@functools.lru_cache(maxsize=4096)
+def _plan(times: bytes, substep: float) -> tuple[tuple[float, ...], tuple[int, ...], np.ndarray]:
+    """``schedule`` of the float64 ``times`` given as bytes, plus h as a read-only array."""
+    dts = np.diff(np.frombuffer(times))  # (T-1,)
+    n = np.maximum(1, np.round(dts / substep)).astype(np.int64)  # (T-1,)
+    h = np.repeat(dts / n, n)  # (S,)
+    h.flags.writeable = False
+    return tuple(h.tolist()), tuple(np.cumsum(n).tolist()), h
 
 
 def _check_steppable(world: SimWorld) -> None:
@@ -85,8 +93,8 @@ def run_lockstep(worlds: list[SimWorld], times: list[np.ndarray], substep: float
     nw = len(worlds)
     if not nw:
         return []
-    plans = [schedule(np.asarray(t, dtype=float), substep) for t in times]
-    hs = [h for h, _ in plans]
+    plans = [_plan(np.ascontiguousarray(t, dtype=float).tobytes(), float(substep)) for t in times]
+    hs = [h for h, _, _ in plans]
     lengths = [len(h) for h in hs]
     rows = _rows(worlds)
     bufs = _buffers(nw + 1)  # one per world's poses, one for the kicks' states
@@ -95,14 +103,14 @@ def run_lockstep(worlds: list[SimWorld], times: list[np.ndarray], substep: float
         r.reset()
         r.read()  # the start pose
     record: dict[int, list[int]] = {}  # substep index -> worlds that record a sample after it
-    for i, (_, ends) in enumerate(plans):
+    for i, (_, ends, _) in enumerate(plans):
         for e in ends:
             record.setdefault(e - 1, []).append(i)
     order = sorted(range(nw), key=lambda i: -lengths[i])  # worlds still stepping are a prefix of this
     active = [(worlds[i].space._space, hs[i]) for i in order]  # noqa: SLF001
     ends_at = [lengths[i] for i in order]
     k_kick = max(1, round(kick_every / substep))
-    kick = _Kick(worlds, force, bufs[nw], rows, _kick_dts(hs, lengths, k_kick)) if force is not None else None
+    kick = _Kick(worlds, force, bufs[nw], rows, _kick_dts([a for _, _, a in plans], lengths, k_kick)) if force is not None else None
     step = lib.cpSpaceStep
     for j in range(max(lengths)):
         while ends_at[-1] <= j:  # the shortest window is done
@@ -120,7 +128,7 @@ def run_lockstep(worlds: list[SimWorld], times: list[np.ndarray], substep: float
     return [r.array(rows, 3)[:, :nb].copy() for r in poses]
 
 
-def _kick_dts(hs: list[list[float]], lengths: list[int], k_kick: int) -> np.ndarray:
+def _kick_dts(hs: list, lengths: list[int], k_kick: int) -> np.ndarray:
     """(K, W) kick interval of every world at each of the K kicks: ``k_kick`` times the substep
     the kick precedes (a world already done keeps its last substep), as ``SimWorld.run`` has it.
     Computed once per rollout instead of at every kick (the same products, to the bit)."""
@@ -157,25 +165,25 @@ class _Reader:
 
 def _rows(worlds: list[SimWorld]) -> int:
     """Bodies ``cpSpaceEachBody`` visits per space (the dynamic bodies, in ``world.bodies`` order,
-    then static ones), checked once per world against the bodies' ids and once against their
-    getters, so a pymunk whose batch layout differs fails loudly instead of mixing up bodies."""
+    then static ones), checked against the bodies' ids and getters, so a pymunk whose batch layout
+    differs fails loudly instead of mixing up bodies. Every world is built by ``SimWorld`` from the
+    same scene (the same calls in the same order), so the first world is read in full and the
+    others only counted (a fit simulates thousands of windows)."""
     buf = _buffers(1)[0]
-    counts = set()
-    for w in worlds:
-        r = _Reader(w.space, buf, (_F.BODY_ID | _F.POSITION | _F.ANGLE | _F.VELOCITY | _F.ANGULAR_VELOCITY).value)
-        r.reset()
-        buf._int_arr.num = 0  # noqa: SLF001
-        r.read()
-        ids = list(memoryview(buf.int_buf()).cast("P"))
-        if ids[:len(w.bodies)] != [b.id for b in w.bodies]:
-            raise RuntimeError("lockstep: pymunk visits a space's bodies in an unexpected order")
-        counts.add(len(ids))
-    b = worlds[-1].bodies[0]  # the last world read is what the buffer holds
+    w = worlds[0]
+    r = _Reader(w.space, buf, (_F.BODY_ID | _F.POSITION | _F.ANGLE | _F.VELOCITY | _F.ANGULAR_VELOCITY).value)
+    r.reset()
+    buf._int_arr.num = 0  # noqa: SLF001
+    r.read()
+    ids = list(memoryview(buf.int_buf()).cast("P"))
+    if ids[:len(w.bodies)] != [b.id for b in w.bodies]:
+        raise RuntimeError("lockstep: pymunk visits a space's bodies in an unexpected order")
+    b = w.bodies[0]
     if r.array(len(ids), 6)[0, 0].tolist() != [*b.position, b.angle, *b.velocity, b.angular_velocity]:
         raise RuntimeError("lockstep: pymunk's batch layout is not x, y, angle, vx, vy, omega")
-    if len(counts) != 1:
+    if any(len(x.bodies) != len(w.bodies) or x.scene != w.scene for x in worlds[1:]):
         raise RuntimeError("lockstep: the worlds do not hold the same bodies")
-    return counts.pop()
+    return len(ids)
 
 
 class _Kick:

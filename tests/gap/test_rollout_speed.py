@@ -1,0 +1,89 @@
+"""The speed-ups of session 11 (gap_speed) give the same numbers as the code they replaced.
+
+Each reference below is the replaced implementation, kept here verbatim in its arithmetic: the
+restitution pre-solve callback registered through pymunk's ``Space.on_collision`` with pymunk's
+getters, and the substep schedule as ``SimWorld.run``'s Python loop. A changed bit fails.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pymunk
+import pytest
+from pymunk._chipmunk import ffi, lib
+
+from voe.gap.bench import make_case
+from voe.gap.shooting import local_state
+from voe.sim.lockstep import schedule
+from voe.sim.scenefile import _STATIC, Materials, SimWorld
+
+
+def _pymunk_pre(e: float, x0: float, x1: float):
+    """The pre-solve callback as it was before (through pymunk's dispatcher and Arbiter)."""
+    seg_p, other_p = ffi.new("cpShape *[1]"), ffi.new("cpShape *[1]")
+
+    def pre(arb: pymunk.Arbiter, space: pymunk.Space, data: object) -> None:
+        a = arb._arbiter  # noqa: SLF001
+        if not lib.cpArbiterGetCount(a):
+            return
+        lib.cpArbiterGetShapes(a, seg_p, other_p)
+        x = lib.cpArbiterGetContactPointSet(a).points[0].pointA.x
+        w = 1.0 / (1.0 + math.exp(-max(-50.0, min(50.0, (x - x0) / 0.01))))
+        w /= 1.0 + math.exp(-max(-50.0, min(50.0, (x1 - x) / 0.01)))
+        seg_e = lib.cpShapeGetElasticity(seg_p[0])
+        lib.cpArbiterSetRestitution(a, lib.cpShapeGetElasticity(other_p[0]) * (seg_e + w * (e - seg_e)))
+
+    return pre
+
+
+@pytest.fixture(scope="module")
+def arena():
+    """An arena case (ball thrown at a box on the floor: bounces, resting and sliding contacts)."""
+    case = make_case(np.random.default_rng(5), "none", episodes=2, duration=2.0)
+    starts = [local_state(e, k0)[:2] for e in case.episodes for k0 in (3, 70, 140)]
+    return case, starts
+
+
+@pytest.mark.parametrize("region", [(0.2, -1.0, 1.0), (0.9, -0.3, 0.05), (0.0, -8.0, 8.0), (0.6, 5.0, 6.0)])
+def test_region_restitution_callback_is_bit_for_bit_the_pymunk_one(arena, region):
+    case, starts = arena
+    t = case.episodes[0].t[:120]
+    for pose0, vel0 in starts:
+        fast = SimWorld(case.scene, pose0, vel0, Materials(region_elasticity=region))
+        slow = SimWorld(case.scene, pose0, vel0)
+        slow.space.on_collision(_STATIC, None, pre_solve=_pymunk_pre(*region))
+        np.testing.assert_array_equal(fast.run(t, 1e-3), slow.run(t, 1e-3))
+    plain = SimWorld(case.scene, *starts[0]).run(t, 1e-3)
+    if region[0] != 0.6:  # the patch is where the bodies bounce: the callback acts
+        assert not np.array_equal(SimWorld(case.scene, *starts[0], Materials(region_elasticity=region)).run(t, 1e-3),
+                                  plain)
+
+
+def _schedule_loop(times: np.ndarray, substep: float) -> tuple[list[float], list[int]]:
+    """The substeps as ``SimWorld.run``'s loop takes them."""
+    h: list[float] = []
+    ends: list[int] = []
+    for dt in np.diff(times).tolist():
+        n = max(1, round(dt / substep))
+        h.extend([dt / n] * n)
+        ends.append(len(h))
+    return h, ends
+
+
+def test_schedule_is_the_loop_of_simworld_run():
+    rng = np.random.default_rng(0)
+    for trial in range(400):
+        n = int(rng.integers(2, 80))
+        t = [np.arange(n) * 0.01 + rng.uniform(0, 5),  # 100 Hz, float steps differ in the last bits
+             np.cumsum(np.r_[rng.uniform(0, 3), rng.uniform(0.008, 0.012, n - 1)]),  # jittered
+             np.cumsum(np.r_[0.0, rng.choice([5e-4, 1.5e-3, 2.5e-3, 1e-3, 1e-5], n - 1)])][trial % 3]  # half-way cases
+        for sub in (1e-3, 5e-4):
+            h, ends = schedule(t, sub)
+            want_h, want_ends = _schedule_loop(t, sub)
+            assert list(ends) == want_ends
+            assert list(h) == want_h and all(type(x) is float for x in h)
+    h1 = schedule(np.arange(5) * 0.01, 1e-3)[0]
+    assert schedule(np.arange(5) * 0.01, 1e-3)[0] is h1  # remembered, and immutable
+    assert isinstance(h1, tuple)
