@@ -98,6 +98,33 @@ def cells_table(matrix: pd.DataFrame) -> str:
     return t.to_string()
 
 
+def family_line(kf: pd.DataFrame) -> str:
+    """Random networks as a family per architecture and concept: draws above and below 0.5.
+
+    Why: one draw is one random function, and its 10-20 sets replicate that function's bias, not
+    independent chances. A draw with a memory carries it with a random sign (README, "Models");
+    the verdict rule still treats any off-chance draw as a confound, the conservative reading,
+    and this line shows whether the architecture's draws *as a family* lean one way (two-sided
+    sign test over draws; ties at 0.5 dropped), which no choice of draw can hide.
+    """
+    from scipy.stats import binomtest
+
+    rn = kf[(kf["family"] == "random-net") & (kf["condition"] == "all")].copy()
+    if rn.empty:
+        return "random-network families: none scored"
+    rn["arch"] = rn["control"].str.replace(r"-s\d+$", "", regex=True)
+    rn["stat"] = rn["halves"].where(rn["verdict_stat"] == "halves", rn["accuracy"]).astype(float)
+    parts, lean = [], []
+    for (arch, concept), g in rn.groupby(["arch", "concept"], sort=True):
+        up, down = int((g["stat"] > 0.5).sum()), int((g["stat"] < 0.5).sum())
+        p = binomtest(up, up + down).pvalue if up + down else 1.0
+        if p < 0.05:
+            lean.append(f"{arch} x {concept} {up} above / {down} below (p {p:.3f})")
+        parts.append(f"{up}/{down}")
+    return (f"random-network families (draws above / below 0.5 on the verdict statistic, per architecture "
+            f"and concept, {len(parts)} families): leaning one way at p < 0.05: " + ("; ".join(lean) or "none"))
+
+
 def summary_lines(matrix: pd.DataFrame, summary: pd.DataFrame, balance: pd.DataFrame, cheats: dict,
                   stat_sets: dict[str, pd.DataFrame]) -> list[str]:
     """The quality target, one line each, computed from the matrix and the report's summary."""
@@ -118,6 +145,7 @@ def summary_lines(matrix: pd.DataFrame, summary: pd.DataFrame, balance: pd.DataF
                  + (", ".join(f"{r.control} x {r.concept} ({r.condition}) "
                               + (f"halves {r.halves:.2f}" if r.verdict_stat == "halves" else f"{r.accuracy:.2f}")
                               for r in off.itertuples()) or "none"))
+    lines.append(family_line(kf))
     fm = balance[balance["F"] & balance["M"]]
     for name in ("motion-energy", "density", "stress-frame", "stress-step"):
         on = stat_sets[name].merge(fm[["concept", "set_id"]], on=["concept", "set_id"])

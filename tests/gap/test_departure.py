@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from voe.gap.departure import ALPHA, _signed_rank_p, departure_p, tail_p
+from voe.gap.departure import ALPHA, REPLICATES, _signed_rank_p, departure_p, tail_p
 
 
 def _chaotic(rng: np.random.Generator, n: int) -> np.ndarray:
@@ -48,3 +48,20 @@ def test_a_few_windows_far_beyond_the_replicate_depart_although_their_ranks_do_n
     assert departure_p(zd, zn) < ALPHA
     level = [tail_p(_chaotic(rng, 30), _chaotic(rng, 30), 400, s) for s in range(300)]
     assert np.mean(np.array(level) < 0.05) <= 0.08  # exchangeable pairs: honest level
+
+
+def test_five_windows_far_beyond_several_replicates_depart():
+    """Like development case 1531065 (a floor patch crossed in five episodes, 0.136 m RMSE,
+    called consistent): five half-second windows at z 65-144, one chaotic replicate window at 17.
+    Against one replicate no swap test can go below 2^-5; against REPLICATES it departs."""
+    rng = np.random.default_rng(3)
+    reps = np.exp(rng.normal(0.7, 0.4, (REPLICATES, 32)))  # (R, W)
+    reps[0, 7] = 16.8
+    zd = np.exp(rng.normal(0.7, 0.4, 32))
+    zd[[2, 9, 15, 22, 28]] = [144.0, 112.0, 80.0, 72.0, 65.0]
+    assert tail_p(zd, reps[0]) > ALPHA / 2
+    assert tail_p(zd, reps) < ALPHA / 2
+    assert departure_p(zd[:19], reps[0, :19], (zd, reps)) < ALPHA
+    level = [tail_p(_chaotic(rng, 30), np.array([_chaotic(rng, 30) for _ in range(REPLICATES)]), 400, s)
+             for s in range(300)]
+    assert np.mean(np.array(level) < 0.05) <= 0.08  # exchangeable columns: honest level

@@ -21,7 +21,8 @@ called consistent. So the departure is tested by two statistics, Bonferroni-comb
 signed-rank test on the 1-s windows (many windows raised a little), and a paired randomisation
 test of how many data windows exceed every replicate window (a few raised far beyond anything
 clean data shows; ``tail_p``), on half-second windows (``WINDOW``: twice the pairs for the same
-stretch, so six touched episodes can reach p < 0.01). The signed-rank test stays on 1-s windows:
+stretch) against ``REPLICATES`` clean replicates (with one, k departing windows cannot reach
+p < 2^-k; with four, (1/5)^k: four touched windows can reach p < 0.005). The signed-rank test stays on 1-s windows:
 on short windows it also detects a small, even noise-level difference between data and replicate
 (development clean case 7741013: signed-rank p 0.003 on half-second windows, 0.07 on 1-s ones),
 which is not missing physics."""
@@ -31,16 +32,23 @@ from __future__ import annotations
 import numpy as np
 from scipy.stats import ttest_1samp, wilcoxon
 
+from voe.gap.locate import window_z
+from voe.gap.recordings import Episode
+from voe.gap.shooting import Shooter, Window, local_state
+from voe.gap.synth import ar1_noise, simulate_episode
+from voe.sim.scenefile import SceneSpec
+
 ALPHA = 0.01  # one located case in a hundred clean ones may be called unexplained
 WINDOW = 0.5  # s, windows of the tail count (see above)
-N_PERM = 2000  # random pair swaps of ``tail_p``: its smallest p-value is 1/2001
+N_PERM = 2000  # random exchanges of ``tail_p``: its smallest p-value is 1/2001
+REPLICATES = 4  # clean replicates ``tail_p`` compares each half-second window with (see ``tail_p``)
 
 
 def departure_p(z_data: np.ndarray, z_null: np.ndarray, short: tuple[np.ndarray, np.ndarray] | None = None) -> float:
     """One-sided p-value that the data's window z-scores (W,) exceed the replicate's (W,), paired:
     the smaller of the signed-rank and the tail-count (``tail_p``) p-values, doubled. ``short``:
-    the data's and the replicate's z-scores (W', each) on the half-second windows the tail count
-    uses (default: the same windows).
+    the data's z-scores (W',) and the clean replicates' ((W',) or (R, W')) on the half-second
+    windows the tail count uses (default: the same windows).
 
     The signed-rank test needs ten pairs or more (with n pairs its smallest p-value is 2^-n);
     with fewer, a one-sided t-test on the log ratios (symmetric under the nominal model, so the
@@ -63,19 +71,57 @@ def _signed_rank_p(z_data: np.ndarray, z_null: np.ndarray) -> float:
 
 
 def tail_p(z_data: np.ndarray, z_null: np.ndarray, n_perm: int = N_PERM, seed: int = 0) -> float:
-    """One-sided randomisation p-value of T, the number of windows whose data z (W,) exceeds the
-    replicate's largest window z (W,), under random swaps within pairs (the nominal model makes
-    each pair exchangeable, whatever the windows' chaos). 1.0 when T = 0 or with fewer than three
-    pairs. Why: it counts departures beyond anything clean data shows, which the signed-rank
-    test caps at their rank."""
+    """One-sided randomisation p-value of T, the number of windows whose data z (W,) exceeds every
+    replicate window's z (``z_null``: (W,) for one clean replicate, or (R, W) for R of them),
+    under random exchanges within each window's column of data and replicate values (the nominal
+    model makes each column exchangeable, whatever the window's chaos). 1.0 when T = 0 or with
+    fewer than three windows.
+
+    Why: it counts departures beyond anything clean data shows, which the signed-rank test caps
+    at their rank. Why several replicates: with one, a column can only be swapped or not, so k
+    departing windows cannot give p below 2^-k (development case 1531065, a floor patch crossed
+    in five episodes: five half-second windows at z 65-144 against a replicate whose largest was
+    17, p = 0.037, and a 0.136 m error read as consistent). With R replicates the floor is
+    (R + 1)^-k.
+    """
     zd = np.nan_to_num(np.asarray(z_data, dtype=float), nan=0.0, posinf=1e300)  # (W,) a diverged window counts
-    zn = np.nan_to_num(np.asarray(z_null, dtype=float), nan=0.0, posinf=1e300)
+    zn = np.nan_to_num(np.atleast_2d(np.asarray(z_null, dtype=float)), nan=0.0, posinf=1e300)  # (R, W)
     if len(zd) < 3:
         return 1.0
     t_obs = int(np.sum(zd > zn.max()))
     if t_obs == 0:
         return 1.0
-    swap = np.random.default_rng(seed).random((n_perm, len(zd))) < 0.5  # (N, W)
-    a, b = np.where(swap, zn, zd), np.where(swap, zd, zn)
-    t = np.sum(a > b.max(axis=1, keepdims=True), axis=1)  # (N,)
+    v = np.vstack([zd[None], zn])  # (R + 1, W): each column exchangeable under the nominal model
+    n_rows, w = v.shape
+    order = np.sort(v, axis=0)
+    top1, top2 = order[-1], order[-2]  # (W,) each column's largest and second largest
+    pick = np.random.default_rng(seed).integers(0, n_rows, size=(n_perm, w))  # (N, W) the row playing the data
+    chosen = v[pick, np.arange(w)[None]]  # (N, W)
+    rest = np.where(chosen >= top1[None], top2[None], top1[None]).max(axis=1, keepdims=True)  # (N, 1) largest other
+    t = np.sum(chosen > rest, axis=1)  # (N,)
     return float((1 + np.sum(t >= t_obs)) / (n_perm + 1))
+
+
+def more_replicates(scene: SceneSpec, episodes: list[Episode], sigma: np.ndarray, phi: np.ndarray, substep: float,
+                    half: int, windows: list[Window], rng: np.random.Generator, n: int = REPLICATES - 1) -> np.ndarray:
+    """(n, W) largest window z of ``n`` further clean replicates of the recordings ``episodes``,
+    on ``windows``.
+
+    Each is made as the first replicate is (``voe.gap.synth.null_like``): the nominal motion from
+    each episode's estimated initial state, plus noise of the data's noise model (``sigma`` (B, 3),
+    AR(1) ``phi`` (B, 3)), so every replicate is exchangeable with the data under the nominal
+    model exactly as the first is. The motion is simulated once; only the noise is redrawn.
+    """
+    motion = []
+    for ep in episodes:
+        pose0, vel0, _ = local_state(ep, 0)
+        motion.append(simulate_episode(scene, ep.id, ep.t, pose0, vel0, None, None, np.zeros_like(sigma), rng,
+                                       substep).pose)  # (T, B, 3) noise-free
+    white = bool(np.all(np.asarray(phi) == 0))
+    out = []
+    for _ in range(n):
+        eps = [Episode(ep.id, ep.t.copy(), m + (rng.normal(size=m.shape) * sigma[None] if white
+                                                else ar1_noise(m.shape, sigma, phi, rng)))
+               for ep, m in zip(episodes, motion, strict=True)]
+        out.append(window_z(Shooter(scene, eps, substep, half), windows, sigma).max(axis=(1, 2)))  # (W,)
+    return np.array(out).reshape(n, len(windows))

@@ -19,7 +19,7 @@ import pandas as pd
 from voe.errors import DataError
 from voe.gap.context import frame_labels, near_contact
 from voe.gap.departure import WINDOW as DEPARTURE_WINDOW
-from voe.gap.departure import departure_p
+from voe.gap.departure import departure_p, more_replicates
 from voe.gap.effects import EFFECTS
 from voe.gap.effects.base import Effect, FitContext
 from voe.gap.fit import FitConfig, Fitter
@@ -118,7 +118,9 @@ def locate_step(p: Problem, config: GapConfig, rng: np.random.Generator) -> Loca
     z = window_z(p.shooter, windows, p.sigma)
     located = [x.to_dict() for x in locate(p.shooter, windows, z, z_thr)]
     dep = make_windows(p.episodes, list(range(len(p.episodes))), DEPARTURE_WINDOW, bad_start=p.bad)  # (voe.gap.departure)
-    short = (window_z(p.shooter, dep, p.sigma).max(axis=(1, 2)), window_z(null_shooter, dep, p.sigma).max(axis=(1, 2)))
+    more = more_replicates(p.scene, p.episodes, p.sigma, p.phi, p.substep, p.half, dep, rng)  # (R - 1, W')
+    short = (window_z(p.shooter, dep, p.sigma).max(axis=(1, 2)),
+             np.vstack([window_z(null_shooter, dep, p.sigma).max(axis=(1, 2))[None], more]))
     p_dep = departure_p(z.max(axis=(1, 2)), z_null, short)
     return Location(windows, located, z_thr, z_strong, null_eps, p_dep)
 
