@@ -23,7 +23,7 @@ from voe.gap.effects.base import Effect
 from voe.gap.fit import FitResult
 from voe.gap.folds import FoldedFitter, as_sum
 from voe.gap.null import NullSearch
-from voe.gap.pairs import Pair, best_pair, pair_threshold
+from voe.gap.pairs import pair_step
 from voe.gap.search import (
     Round,
     RoundTask,
@@ -87,26 +87,20 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
             group = choose(gains, {}, thr)  # beats the threshold, but its lower bound is not positive
             provisional = bool(group)
         if not group and trial is None and lower_q and len(outs) > 1 and len(keys) + 2 <= max_effects and len(pool) > 1:
-            step = _pair_step(fitter, results, current, before_sse, paired, outs[1][0], thr, q, n_jobs)
+            step = pair_step(fitter, results, gains, lower, before, current, before_sse, paired, outs[1][0], thr, q,
+                             n_jobs)
             if step is not None:
-                pair, thr_pair = step
-                a, b = pair.keys
-                low = gain_lower_bound(before_sse, pair.result.window_sse, q=q)
-                basis = (f"no single candidate passed; {a} and {b} fitted jointly gain {100 * pair.gain:.1f} % "
-                         f"(pair threshold {100 * thr_pair:.1f} %, from the same pair step on clean data)")
-                rounds.append(Round(before, results, gains, lower, thr_pair, a, (a,), basis))
-                rounds.append(Round(before, {b: pair.result}, {b: pair.gain}, {b: low}, thr_pair, b, (b,),
-                                    f"accepted jointly with {a}"))
-                pool.pop(a)
-                pool.pop(b)
+                rounds += step.rounds
+                for k in step.pair.keys:
+                    pool.pop(k)
                 goes_on = bool(pool) and len(keys) + 2 < max_effects
                 null_item = paired.pending() if goes_on else None
-                refined = accept_all([(fitter, pair.result, pair.gain, before_sse)] + ([null_item] if null_item else []),
-                                     n_jobs)
+                refined = accept_all([(fitter, step.pair.result, step.pair.gain, before_sse)]
+                                     + ([null_item] if null_item else []), n_jobs)
                 if null_item:
                     paired.accepted(refined[1])
                 current, before_sse = refined[0], refined[0].window_sse
-                keys += [a, b]
+                keys += list(step.pair.keys)
                 if not goes_on:
                     break
                 continue
@@ -148,23 +142,6 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
         if not pool:
             break
     return SearchResult(as_sum(current) if current is not None else None, tuple(rounds), tuple(keys))
-
-
-def _pair_step(fitter: FoldedFitter, results: dict[str, FitResult], current: FitResult | None, before_sse: np.ndarray,
-               null: NullSearch, null_results: dict[str, FitResult], thr: float, q: float,
-               n_jobs: int = 1) -> tuple[Pair, float] | None:
-    """The data's best jointly fitted pair and its threshold, if it passes (``voe.gap.pairs``).
-
-    The null's identical pair step (its own round's results, before its forced candidate is
-    refined in) is run only when the data's pair beats the single threshold with a positive
-    lower bound: it can only raise the bar, so skipping it otherwise changes no answer.
-    """
-    pair = best_pair(fitter, results, current, before_sse, n_jobs=n_jobs)
-    if pair is None or pair.gain <= thr or gain_lower_bound(before_sse, pair.result.window_sse, q=q) <= 0:
-        return None
-    null_pair = best_pair(null.fitter, null_results, null.current, null.before_sse, n_jobs=n_jobs)
-    thr_pair = pair_threshold(null_pair, null.before_sse, thr, null.alpha, null.seed)
-    return (pair, thr_pair) if pair.gain > thr_pair else None
 
 
 @dataclass(frozen=True)

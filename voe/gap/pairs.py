@@ -27,7 +27,8 @@ import numpy as np
 from voe.gap.effects.base import EffectSum
 from voe.gap.fit import FitResult
 from voe.gap.folds import FoldedFitter
-from voe.gap.search import null_threshold, window_gain
+from voe.gap.null import NullSearch
+from voe.gap.search import Round, gain_lower_bound, null_threshold, window_gain
 from voe.parallel import parallel_map
 
 PAIR_TOP = 3  # candidates of lowest training cost whose pairs are fitted (3 pairs)
@@ -126,3 +127,45 @@ def pair_threshold(null_pair: Pair | None, null_before: np.ndarray, single: floa
         return single
     q, _ = null_threshold(null_before, {"pair": null_pair.result}, alpha, seed)
     return float(max(single, q, null_pair.gain))
+
+
+@dataclass(frozen=True)
+class PairStep:
+    """An accepted pair step: the pair, its threshold, and the two rounds it adds to the search
+    (the first holds the round's single-candidate results, the second the joint fit)."""
+
+    pair: Pair
+    threshold: float
+    rounds: tuple[Round, Round]
+
+
+def pair_step(fitter: FoldedFitter, results: dict[str, FitResult], gains: dict[str, float], lower: dict[str, float],
+              before: float, current: FitResult | None, before_sse: np.ndarray, null: NullSearch,
+              null_results: dict[str, FitResult], thr: float, q: float, n_jobs: int = 1) -> PairStep | None:
+    """The data's best jointly fitted pair if it passes its threshold, else None.
+
+    The null's identical pair step (its own round's results, before its forced candidate is
+    refined in) is run only when the data's pair beats the single threshold ``thr`` with a
+    positive ``q`` bootstrap lower bound: it can only raise the bar, so skipping it otherwise
+    changes no answer.
+
+    Args:
+        results, gains, lower: the round's single-candidate fits, gains and lower bounds.
+        before: the round's selection RMSE before (for its ``Round``).
+    """
+    pair = best_pair(fitter, results, current, before_sse, n_jobs=n_jobs)
+    if pair is None or pair.gain <= thr:
+        return None
+    low = gain_lower_bound(before_sse, pair.result.window_sse, q=q)
+    if low <= 0:
+        return None
+    null_pair = best_pair(null.fitter, null_results, null.current, null.before_sse, n_jobs=n_jobs)
+    thr_pair = pair_threshold(null_pair, null.before_sse, thr, null.alpha, null.seed)
+    if pair.gain <= thr_pair:
+        return None
+    a, b = pair.keys
+    basis = (f"no single candidate passed; {a} and {b} fitted jointly gain {100 * pair.gain:.1f} % "
+             f"(pair threshold {100 * thr_pair:.1f} %, from the same pair step on clean data)")
+    return PairStep(pair, thr_pair, (Round(before, results, gains, lower, thr_pair, a, (a,), basis),
+                                     Round(before, {b: pair.result}, {b: pair.gain}, {b: low}, thr_pair, b, (b,),
+                                           f"accepted jointly with {a}")))

@@ -129,9 +129,10 @@ def search_step(p: Problem, loc: Location, config: GapConfig, max_effects: int, 
                 progress: Callable[[str], None] | None = None) -> Search:
     """The greedy search on the data, each round judged against the same round on clean data."""
     note = progress or (lambda s: None)
-    data = _folded(p, p.shooter, p.episodes, config, seed)
+    data = _folded(p, p.shooter, p.episodes, p.bad, config, seed)
     null_shooter = Shooter(p.scene, loc.null_episodes, p.substep, p.half)
-    null = NullSearch(_folded(p, null_shooter, loc.null_episodes, config, seed), p.candidates, config.null_alpha,
+    null_bad = _bad_starts(p.scene, loc.null_episodes, p.half)  # the replicate's own contacts, not the data's
+    null = NullSearch(_folded(p, null_shooter, loc.null_episodes, null_bad, config, seed), p.candidates, config.null_alpha,
                       config.min_gain, seed, lambda k: note(f"null: {k}"), n_jobs)
     contexts = {x["context"] for x in loc.located} or _all_labels(p.scene, p.episodes)
     noise = float(np.median(p.sigma[:, :2]))
@@ -154,20 +155,26 @@ def fit_windows(p: Problem, ids: tuple[int, ...], config: GapConfig) -> list[Win
     return make_windows(p.episodes, list(ids), config.fit_window, bad_start=p.bad)
 
 
-def _folded(p: Problem, shooter: Shooter, episodes: list[Episode], config: GapConfig, seed: int) -> FoldedFitter:
-    """One ``Fitter`` per fold on ``episodes`` (the data or its clean replicate: same windows).
+def _folded(p: Problem, shooter: Shooter, episodes: list[Episode], bad: dict[int, np.ndarray], config: GapConfig,
+            seed: int) -> FoldedFitter:
+    """One ``Fitter`` per fold on ``episodes`` (the data or its clean replicate), windows cut by
+    ``bad`` (per episode, (T,) starts refused), which must be the contacts of ``episodes`` themselves.
 
-    The same seed draws the same window subsample for the data and the null.
+    Why its own contacts: the replicate follows the nominal physics from each episode's first
+    state, so its impacts fall elsewhere than the data's; cut by the data's, its windows started
+    inside its own impacts, where any damping candidate "gains" on the garbage start velocity and
+    the threshold rose (development case 1531056: 7 of 15 null selection windows). The same seed
+    draws the subsample for the data and the null.
     """
     rng = np.random.default_rng(seed)
     w = config.fit_window
     folds = p.split.folds or ((p.split.fit, p.split.select),)
     out = []
     for fit_ids, sel_ids in folds:
-        train = _subsample(make_windows(episodes, list(fit_ids), w, bad_start=p.bad), config.fit_budget, w, rng)
-        sel = _subsample(make_windows(episodes, list(sel_ids), w, stride=w / 2, bad_start=p.bad),
+        train = _subsample(make_windows(episodes, list(fit_ids), w, bad_start=bad), config.fit_budget, w, rng)
+        sel = _subsample(make_windows(episodes, list(sel_ids), w, stride=w / 2, bad_start=bad),
                          config.test_budget / len(folds), w, rng)
-        pool = make_windows(episodes, list(fit_ids), w, stride=w / 2, bad_start=p.bad)
+        pool = make_windows(episodes, list(fit_ids), w, stride=w / 2, bad_start=bad)
         ctx = context_for(p.scene, [episodes[i] for i in fit_ids])
         out.append(Fitter(shooter, p.sigma, train, sel, ctx, config.fit, pool=pool))
     return FoldedFitter(out)
