@@ -2,7 +2,7 @@
 Scores its halves on a concept's verdict quadruplets and on their exact left-right mirrors.
 
 Why: a random network is off chance on continuity and permanence with one sign on every set
-(README, "Models", session 10). If that sign came from a direction the probes share (objects
+(docs/models-findings.md, session 10). If that sign came from a direction the probes share (objects
 entering the same way, or the hidden stretch's state difference always pointing one way), a
 knowledge-free odd function of the remembered state would pick it up, and the mirrored sets
 (``voe.concepts.mirror``: exact on a ``2**-16`` grid, frames redrawn from the mirrored states)

@@ -1,7 +1,7 @@
 """Where an interaction network's verdict on a concept's spliced quadruplets sits: which frame,
 and which part of the prediction (presence, shape, or one of the nine state features).
 
-Why (README, "Models", session 10): a random ``interaction`` network is off chance on
+Why (docs/models-findings.md, session 10): a random ``interaction`` network is off chance on
 continuity, permanence and inertia, and the trained one prefers the impossible clip on collision
 and solidity. Both are decided by the halves ``d_AB`` and ``d_BA`` (``voe.scoring.halves``), and
 both sit on the one or two frames where a hidden object comes back; this says what in the

@@ -102,7 +102,7 @@ def family_line(kf: pd.DataFrame) -> str:
     """Random networks as a family per architecture and concept: draws above and below 0.5.
 
     Why: one draw is one random function, and its 10-20 sets replicate that function's bias, not
-    independent chances. A draw with a memory carries it with a random sign (README, "Models");
+    independent chances. A draw with a memory carries it with a random sign (docs/models-findings.md);
     the verdict rule still treats any off-chance draw as a confound, the conservative reading,
     and this line shows whether the architecture's draws *as a family* lean one way (two-sided
     sign test over draws; ties at 0.5 dropped), which no choice of draw can hide.

@@ -2,7 +2,8 @@
 
 Each reference below is the replaced implementation, kept here verbatim in its arithmetic: the
 restitution pre-solve callback registered through pymunk's ``Space.on_collision`` with pymunk's
-getters, and the substep schedule as ``SimWorld.run``'s Python loop. A changed bit fails.
+getters, the substep schedule as ``SimWorld.run``'s Python loop, and ``Fitter.focused``'s screen
+one window at a time. A changed bit, window or rollout count fails.
 """
 
 from __future__ import annotations
@@ -15,7 +16,10 @@ import pytest
 from pymunk._chipmunk import ffi, lib
 
 from voe.gap.bench import make_case
-from voe.gap.shooting import local_state
+from voe.gap.effects import EFFECTS
+from voe.gap.fit import Fitter
+from voe.gap.shooting import Shooter, local_state, make_windows, noise_floor
+from voe.gap.stages import context_for
 from voe.sim.lockstep import schedule
 from voe.sim.scenefile import _STATIC, Materials, SimWorld
 
@@ -87,3 +91,44 @@ def test_schedule_is_the_loop_of_simworld_run():
     h1 = schedule(np.arange(5) * 0.01, 1e-3)[0]
     assert schedule(np.arange(5) * 0.01, 1e-3)[0] is h1  # remembered, and immutable
     assert isinstance(h1, tuple)
+
+
+def _focused_one_by_one(fitter: Fitter, effect, x0, lo, hi, scale) -> list:
+    """``Fitter.focused``'s screen as it was: one window at a time, stopping at the budget."""
+    new = effect.parts[-1]
+    n = new.n_params
+    probe = x0.copy()
+    probe[-n:] = np.clip(x0[-n:] + 3 * scale[-n:], lo[-n:], hi[-n:])
+    if np.allclose(probe, x0):
+        probe[-n:] = np.clip(x0[-n:] - 3 * scale[-n:], lo[-n:], hi[-n:])
+    tol2 = (float(np.min(fitter.sigma[:, :2])) / 3) ** 2
+    sh, hit = fitter.shooter, []
+    for i in np.random.default_rng(len(fitter.pool)).permutation(len(fitter.pool)):
+        w = fitter.pool[i]
+        if not new.may_act(sh.scene, sh.episodes[w.ep].pose[w.k0:w.k1 + 1]):
+            continue
+        moved = float(np.nanmean((sh.residual(w, effect, probe) - sh.residual(w, effect, x0)) ** 2))
+        if not np.isfinite(moved) or moved > tol2:
+            hit.append(w)
+            if len(hit) == len(fitter.train):
+                break
+    return sorted(hit, key=lambda w: (w.ep, w.k0))
+
+
+@pytest.mark.parametrize("every", [5, 12])
+def test_focused_screen_in_batches_picks_and_simulates_the_same_windows(every):
+    case = make_case(np.random.default_rng(32), "mass")  # the box is heavier: a sparse effect
+    eps, scene = case.episodes, case.scene
+    sh = Shooter(scene, eps, 1e-3, 7)
+    pool = make_windows(eps, list(range(8)), 1.0, stride=0.5)
+    fitter = Fitter(sh, noise_floor(eps), pool[::every], make_windows(eps, [8], 1.0), context_for(scene, eps[:8]),
+                    pool=pool)
+    eff = EFFECTS.get("mass")(bodies=("box",))
+    lo, hi = eff.bounds(fitter.ctx)
+    args = (eff, np.array([1.0]), lo, hi, eff.scale(fitter.ctx))
+    n0 = sh.n_rollouts
+    want = _focused_one_by_one(fitter, *args)
+    n_one = sh.n_rollouts - n0
+    got = fitter.focused(*args)
+    assert got.train == want and want  # the same windows, in the same order
+    assert sh.n_rollouts - n0 - n_one == n_one  # and exactly as many rollouts

@@ -3,7 +3,7 @@ and collide behind screens.
 
 Why: the probes of gravity, solidity and collision score a hidden rollout at a reappearance; the
 training world must show (without violations) objects whose motion changes while hidden, or a
-learned rollout never sees it (README, "Why the trained v3 does not learn gravity ...").
+learned rollout never sees it (docs/models-findings.md, "Why the trained v3 does not learn gravity ...").
 """
 
 from __future__ import annotations

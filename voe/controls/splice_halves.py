@@ -13,7 +13,7 @@ physics oracle has both halves positive on 90-100 % of the occluded sets of ever
 concept, constant velocity on exactly the concepts it knows (inertia, permanence,
 unchangeableness) and on none of gravity, solidity and collision, random ``interaction``
 networks on 0-20 % (one 70 %), and the demo's pixel model on none, although its *sum* is right on
-all collision sets (README, "Models").
+all collision sets (docs/models-findings.md).
 
 The halves themselves live in ``voe.scoring.halves`` (how frames are matched to their side is
 described there), where the verdict also uses them; this module lays them out per set for

@@ -9,6 +9,7 @@ its training cost, so a flexible effect gains nothing by overfitting.
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 
 import numpy as np
@@ -81,7 +82,8 @@ class Fitter:
         the training windows held two or three such collisions, one of them chaotic, and the fit
         settled on a mass ratio on the wrong side of nominal. The pool is screened in a fixed
         random order, after the effect's own geometric screen (``Effect.may_act``), and
-        screening stops once the budget is filled (two rollouts per window).
+        screening stops once the budget is filled (two rollouts per window; the windows are
+        simulated in batches of the hits still missing, so exactly as many as one by one).
         """
         new = effect.parts[-1]
         if not new.sparse or not self.pool:
@@ -93,15 +95,19 @@ class Fitter:
             probe[-n:] = np.clip(x0[-n:] - 3 * scale[-n:], lo[-n:], hi[-n:])
         tol2 = (float(np.min(self.sigma[:, :2])) / 3) ** 2
         sh, hit = self.shooter, []
-        for i in np.random.default_rng(len(self.pool)).permutation(len(self.pool)):
-            w = self.pool[i]
-            if not new.may_act(sh.scene, sh.episodes[w.ep].pose[w.k0:w.k1 + 1]):
-                continue
-            moved = float(np.nanmean((sh.residual(w, effect, probe) - sh.residual(w, effect, x0)) ** 2))
-            if not np.isfinite(moved) or moved > tol2:
-                hit.append(w)
-                if len(hit) == len(self.train):
-                    break
+        budget = len(self.train) or len(self.pool)  # no training windows: every window that moves
+        order = (w for w in (self.pool[i] for i in np.random.default_rng(len(self.pool)).permutation(len(self.pool)))
+                 if new.may_act(sh.scene, sh.episodes[w.ep].pose[w.k0:w.k1 + 1]))
+        while len(hit) < budget:
+            # the next windows, as many as hits are still missing, side by side (each as if
+            # alone): never past where a one-by-one screen would stop, so the same windows
+            batch = list(itertools.islice(order, budget - len(hit)))
+            if not batch:
+                break
+            for w, a, b in zip(batch, sh.residuals(batch, effect, probe), sh.residuals(batch, effect, x0), strict=True):
+                moved = float(np.nanmean((a - b) ** 2))
+                if not np.isfinite(moved) or moved > tol2:
+                    hit.append(w)
         return self._on(sorted(hit, key=lambda w: (w.ep, w.k0))) if hit else self
 
     def standardized(self, effect: Effect | None, params: np.ndarray | None) -> np.ndarray:

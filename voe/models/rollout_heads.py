@@ -11,7 +11,7 @@ privileged, it starts at zero like every output layer, and a random draw of it i
 map, not a physical step. What a trained v3 carries across an occlusion it learned. But a random
 linear map still carries a fading memory of a hidden object (spectral radius about 0.5-0.8), and
 on hidden splices any consistent memory decides the sign: random v3 networks were off chance on
-continuity, inertia, energy, permanence and solidity for some seeds (dev seed 0, README "Models").
+continuity, inertia, energy, permanence and solidity for some seeds (dev seed 0, docs/models-findings.md).
 
 Both heads start as constants (zero gates or map, outlier weight ~1) and are randomized in full by
 ``randomize(generator)`` for the random-network controls, each with the reason for its draw.

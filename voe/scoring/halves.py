@@ -9,7 +9,7 @@ violations (the ball that hung in the air and the one that came back too early).
 surprise only grows (or only falls) with the time an object was hidden gives the halves opposite
 signs, and the sum's sign is then set by the curvature of that memory, not by physics: on
 development seed 0 the pixel model's collision sum was right on every set with no set where both
-halves were (README, "Models"). The verdict therefore also asks each half to be right
+halves were (docs/models-findings.md). The verdict therefore also asks each half to be right
 (``voe.scoring.verdict.with_halves``). Each half compares identical frames, so every statistic of
 the frames or their steps ties on it exactly, as on the sum.
 

@@ -55,7 +55,7 @@ def schedule(times: np.ndarray, substep: float) -> tuple[tuple[float, ...], tupl
     return _plan(np.ascontiguousarray(times, dtype=float).tobytes(), float(substep))[:2]
 
 
-@functools.lru_cache(maxsize=4096)
+@functools.lru_cache(maxsize=512)  # a 1 s window at 1 ms is ~40 kB here: at most ~20-40 MB
 def _plan(times: bytes, substep: float) -> tuple[tuple[float, ...], tuple[int, ...], np.ndarray]:
     """``schedule`` of the float64 ``times`` given as bytes, plus h as a read-only array."""
     dts = np.diff(np.frombuffer(times))  # (T-1,)

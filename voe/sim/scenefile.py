@@ -172,9 +172,10 @@ class SimWorld:
             seg.collision_type = _STATIC
             self.space.add(seg)
         if mat.region_elasticity is not None:  # chipmunk's own handler, called from C (see _region_pre)
-            self._region = ffi.new("double[3]", mat.region_elasticity)  # e, x0, x1; lives as long as the world
+            region = ffi.new("double[3]", mat.region_elasticity)  # e, x0, x1
+            self.space._voe_region = region  # lives as long as the space that points at it
             handler = lib.cpSpaceAddCollisionHandler(self.space._space, _STATIC, _WILDCARD)  # noqa: SLF001
-            handler.preSolveFunc, handler.userData = _region_pre, self._region
+            handler.preSolveFunc, handler.userData = _region_pre, region
         index = {n: i for i, n in enumerate(scene.names)}
         for js in scene.joints:
             other = self.space.static_body if js.b is None else self.bodies[index[js.b]]
