@@ -114,15 +114,15 @@ def family_line(kf: pd.DataFrame) -> str:
         return "random-network families: none scored"
     rn["arch"] = rn["control"].str.replace(r"-s\d+$", "", regex=True)
     rn["stat"] = rn["halves"].where(rn["verdict_stat"] == "halves", rn["accuracy"]).astype(float)
-    parts, lean = [], []
-    for (arch, concept), g in rn.groupby(["arch", "concept"], sort=True):
+    families = rn.groupby(["arch", "concept"], sort=True)
+    lean = []
+    for (arch, concept), g in families:
         up, down = int((g["stat"] > 0.5).sum()), int((g["stat"] < 0.5).sum())
         p = binomtest(up, up + down).pvalue if up + down else 1.0
         if p < 0.05:
             lean.append(f"{arch} x {concept} {up} above / {down} below (p {p:.3f})")
-        parts.append(f"{up}/{down}")
     return (f"random-network families (draws above / below 0.5 on the verdict statistic, per architecture "
-            f"and concept, {len(parts)} families): leaning one way at p < 0.05: " + ("; ".join(lean) or "none"))
+            f"and concept, {families.ngroups} families): leaning one way at p < 0.05: " + ("; ".join(lean) or "none"))
 
 
 def summary_lines(matrix: pd.DataFrame, summary: pd.DataFrame, balance: pd.DataFrame, cheats: dict,

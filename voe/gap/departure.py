@@ -35,7 +35,7 @@ from scipy.stats import ttest_1samp, wilcoxon
 from voe.gap.locate import window_z
 from voe.gap.recordings import Episode
 from voe.gap.shooting import Shooter, Window, local_state
-from voe.gap.synth import ar1_noise, simulate_episode
+from voe.gap.synth import pose_noise, simulate_episode
 from voe.sim.scenefile import SceneSpec
 
 ALPHA = 0.01  # one located case in a hundred clean ones may be called unexplained
@@ -117,11 +117,9 @@ def more_replicates(scene: SceneSpec, episodes: list[Episode], sigma: np.ndarray
         pose0, vel0, _ = local_state(ep, 0)
         motion.append(simulate_episode(scene, ep.id, ep.t, pose0, vel0, None, None, np.zeros_like(sigma), rng,
                                        substep).pose)  # (T, B, 3) noise-free
-    white = bool(np.all(np.asarray(phi) == 0))
     out = []
     for _ in range(n):
-        eps = [Episode(ep.id, ep.t.copy(), m + (rng.normal(size=m.shape) * sigma[None] if white
-                                                else ar1_noise(m.shape, sigma, phi, rng)))
+        eps = [Episode(ep.id, ep.t.copy(), m + pose_noise(m.shape, sigma, phi, rng))
                for ep, m in zip(episodes, motion, strict=True)]
         out.append(window_z(Shooter(scene, eps, substep, half), windows, sigma).max(axis=(1, 2)))  # (W,)
     return np.array(out).reshape(n, len(windows))

@@ -15,8 +15,8 @@ session 11 each window's estimated start velocity is profiled out of its terms
 (``voe.gap.nuisance``): a rolling ball's start estimate breaks the rolling constraint, and the
 slip it leaves read as a drag changing in time (development case 1531045: a true linear drag,
 c = 0.183, dropped at z = 9.8, the windows at 2.5 s giving 0.119; profiled they give 0.175
-against 0.190, z = 0.6). Checked on dev seeds (``/tmp``-level dump, each effect at its true
-parameters, or a constant acceleration fitted by Gauss-Newton to each gust): see the README. The
+against 0.190, z = 0.6). Checked on dev seeds (each effect at its true parameters, and a
+constant acceleration fitted by Gauss-Newton to each gust): docs/gap-findings.md. The
 windows are 0.5 s long, every 0.25 s (half the fitting windows: a gust of about a second
 averages out over a 1 s window). Subsamples: the windows centred in one 0.25 s slot of episode
 time against all others, for every slot. The spread of a difference is a bootstrap within time
@@ -55,9 +55,6 @@ ALPHA = 0.05  # family-wise over every slot and parameter of a model (Bonferroni
 SLOT = 0.25  # s of episode time (the windows' stride): windows centred within one slot form a subsample
 N_BOOT = 200
 MIN_WINDOWS = 3  # per side: the bootstrap spread of two windows can be near zero by chance
-#: Each window's start velocity is profiled out of its terms (``voe.gap.nuisance``; not on scenes
-#: with joints, where one body's velocity cannot be stepped alone).
-PROFILE = True
 
 
 def critical(df: int, n_tests: int, alpha: float | None = None) -> float:
@@ -149,8 +146,9 @@ def drifts(shooter: Shooter, sigma: np.ndarray, windows: list[Window], effect: E
     ``SLOT`` of episode time form one subsample, each compared with all other windows.
     """
     kept, terms = [], []
-    profile = PROFILE and not shooter.scene.joints
-    prof = profiled_terms(shooter, sigma, windows, effect, params, ctx, f_scale) if profile else None
+    # each window's start velocity profiled out (voe.gap.nuisance); not on scenes with joints,
+    # where one body's velocity cannot be stepped alone
+    prof = None if shooter.scene.joints else profiled_terms(shooter, sigma, windows, effect, params, ctx, f_scale)
     for i, w in enumerate(windows):  # per window, so each term keeps its window's time
         if prof is not None:  # start velocity profiled out (voe.gap.nuisance)
             t = prof[i]

@@ -38,9 +38,15 @@ def simulate_episode(scene: SceneSpec, ep_id: int, t: np.ndarray, pose0: np.ndar
         def force_fn(state):
             return effect.forces(state, params, scene)
     pose = world.run(t, substep, force_fn)  # (T, B, 3)
+    return Episode(ep_id, t.copy(), pose + pose_noise(pose.shape, sigma, phi, rng))
+
+
+def pose_noise(shape: tuple[int, ...], sigma: np.ndarray, phi: np.ndarray | float, rng: np.random.Generator) -> np.ndarray:
+    """(T, B, 3) measurement noise of the data's noise model: white (one normal draw per sample)
+    where every ``phi`` is 0, else AR(1) (``ar1_noise``)."""
     if np.all(np.asarray(phi) == 0):
-        return Episode(ep_id, t.copy(), pose + rng.normal(size=pose.shape) * sigma[None])
-    return Episode(ep_id, t.copy(), pose + ar1_noise(pose.shape, sigma, phi, rng))
+        return rng.normal(size=shape) * sigma[None]
+    return ar1_noise(shape, sigma, phi, rng)
 
 
 def null_like(scene: SceneSpec, episodes: list[Episode], sigma: np.ndarray, rng: np.random.Generator,
