@@ -13,7 +13,7 @@ CONCEPTS.register("Solidity-v3", "voe.concepts.solidity:Solidity")
 CONCEPTS.register("Inertia-v1", "voe.concepts.inertia:Inertia")
 CONCEPTS.register("Gravity-v4", "voe.concepts.gravity:Gravity")
 CONCEPTS.register("Collision-v4", "voe.concepts.collision:Collision")
-CONCEPTS.register("Energy-v5", "voe.concepts.energy:Energy")
+CONCEPTS.register("Energy-v6", "voe.concepts.energy:Energy")
 
 #: The suites ``voe probes generate --suite`` knows, by concept name (latest version is used).
 SUITES: dict[str, tuple[str, ...]] = {
