@@ -13,7 +13,9 @@ fit, which also pushed the intervals of true, well-measured effects over the nom
 interval [0, 0.42]) and the effects were dropped as not established.
 
 Here ``N_REP`` replicates of the fitting episodes are simulated under the fitted model, from each
-episode's estimated first state, with the data's noise model (white or AR(1),
+episode's estimated first state (the noise-free trajectories once, side by side with
+``voe.gap.rollout.run_many``, which agrees with ``SimWorld.run`` to the last bit), with the data's
+noise model (white or AR(1),
 ``voe.gap.shooting.noise_model``), cut into windows by their own contacts, and the same one-step
 Gauss-Newton estimate the data gets (``uncertainty.one_step``) is taken on each. For a replicate
 the fitted parameters *are* the truth, so the replicates' estimates minus the fitted parameters
@@ -27,8 +29,10 @@ from __future__ import annotations
 import numpy as np
 
 from voe.gap.effects.base import Effect, FitContext
+from voe.gap.recordings import Episode
+from voe.gap.rollout import run_many
 from voe.gap.shooting import Shooter, local_state, make_windows
-from voe.gap.synth import simulate_episode
+from voe.gap.synth import pose_noise
 
 N_REP = 8  # replicates: each costs one simulated copy of the fitting episodes plus its window terms
 
@@ -47,14 +51,13 @@ def replicate_errors(p, fit_ids: tuple[int, ...], window: float, effect: Effect,
     from voe.gap.uncertainty import one_step, window_terms
 
     rng = np.random.default_rng([seed, 0x9A7])
-    out = []
+    eps = [p.episodes[i] for i in fit_ids]
+    starts = [local_state(ep, 0, p.half)[:2] for ep in eps]
+    clean = run_many(p.scene, starts, [ep.t for ep in eps], p.substep, effect, params)  # (T, B, 3) each, once:
+    out = []  # the replicates differ only in their noise
     for _ in range(n_rep):
-        reps = []
-        for i in fit_ids:
-            ep = p.episodes[i]
-            pose0, vel0, _ = local_state(ep, 0, p.half)
-            reps.append(simulate_episode(p.scene, ep.id, ep.t, pose0, vel0, effect, params, p.sigma, rng,
-                                         p.substep, p.phi))
+        reps = [Episode(ep.id, ep.t.copy(), pose + pose_noise(pose.shape, p.sigma, p.phi, rng))
+                for ep, pose in zip(eps, clean, strict=True)]
         wins = make_windows(reps, list(range(len(reps))), window, bad_start=_bad_starts(p.scene, reps, p.half))
         terms = window_terms(Shooter(p.scene, reps, p.substep, p.half), p.sigma, wins, effect, params, ctx, f_scale)
         out.append(one_step(terms, effect, params, ctx) - params if len(terms[0]) else np.full(len(params), np.nan))

@@ -113,19 +113,23 @@ def window_terms(shooter: Shooter, sigma: np.ndarray, windows: list[Window], eff
     scale = effect.scale(ctx)
     n_p = len(params)
     h_list, g_list, e_list = [], [], []
-    for w in windows:
+    base = shooter.residuals(windows, effect, params)  # all windows side by side: the same numbers, one pass
+    moved, steps = [], []
+    for j in range(n_p):
+        step = 0.1 * scale[j]
+        step = step if params[j] + step <= hi_b[j] else -step
+        p = params.copy()
+        p[j] += step
+        moved.append(shooter.residuals(windows, effect, p))
+        steps.append(step)
+    for k, w in enumerate(windows):
         wt = 1.0 / shooter.sigma_pred(w, sigma)  # (n, B, 3)
-        r0 = (shooter.residual(w, effect, params) * wt).reshape(-1)
+        r0 = (base[k] * wt).reshape(-1)
         if not np.all(np.isfinite(r0)):
             continue
         jac = np.zeros((r0.size, n_p))
         for j in range(n_p):
-            step = 0.1 * scale[j]
-            up = params[j] + step <= hi_b[j]
-            p = params.copy()
-            p[j] += step if up else -step
-            rj = (shooter.residual(w, effect, p) * wt).reshape(-1)
-            jac[:, j] = (rj - r0) / (step if up else -step)
+            jac[:, j] = ((moved[j][k] * wt).reshape(-1) - r0) / steps[j]
         irls = 1.0 / np.sqrt(1.0 + (r0 / f_scale) ** 2)  # soft-L1 weights at the fit
         jw = jac * irls[:, None]
         h_list.append(jw.T @ jac)
