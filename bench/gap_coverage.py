@@ -142,7 +142,8 @@ def main() -> None:
     t0 = time.time()
     rows = list(parallel_map(one, todo, a.jobs))
     n = len(rows)
-    print(f"gap coverage: {n} cases ({a.truths}; seeds {a.seeds}), {time.time() - t0:.0f} s")
+    which = f"cases {a.case_seeds}" if a.case_seeds else f"{a.truths}; seeds {a.seeds}"
+    print(f"gap coverage: {n} cases ({which}), {time.time() - t0:.0f} s")
     for r in rows:
         ks = [k for k in FACTORS if covered(r, a.episodes, k, TOL)]
         ks1 = [k for k in FACTORS if covered(r, False, k, TOL, True)]
