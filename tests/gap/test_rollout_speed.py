@@ -1,9 +1,10 @@
-"""The speed-ups of session 11 (gap_speed) give the same numbers as the code they replaced.
+"""The speed-ups of sessions 11 and 12 (gap_speed) give the same numbers as the code they replaced.
 
 Each reference below is the replaced implementation, kept here verbatim in its arithmetic: the
 restitution pre-solve callback registered through pymunk's ``Space.on_collision`` with pymunk's
 getters, the substep schedule as ``SimWorld.run``'s Python loop, and ``Fitter.focused``'s screen
-one window at a time. A changed bit, window or rollout count fails.
+one window at a time, and the force laws' norms and clips as written before session 12. A
+changed bit, window or rollout count fails.
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from voe.gap.fit import Fitter
 from voe.gap.shooting import Shooter, local_state, make_windows, noise_floor
 from voe.gap.stages import context_for
 from voe.sim.lockstep import schedule
-from voe.sim.scenefile import _STATIC, Materials, SimWorld
+from voe.sim.scenefile import _STATIC, Materials, SimState, SimWorld
 
 
 def _pymunk_pre(e: float, x0: float, x1: float):
@@ -132,3 +133,40 @@ def test_focused_screen_in_batches_picks_and_simulates_the_same_windows(every):
     got = fitter.focused(*args)
     assert got.train == want and want  # the same windows, in the same order
     assert sh.n_rollouts - n0 - n_one == n_one  # and exactly as many rollouts
+
+
+def _state(rng: np.random.Generator, n: int) -> SimState:
+    """A random state of ``n`` bodies, speeds and positions over many orders of magnitude."""
+    mag = 10.0 ** rng.uniform(-6, 4, size=(n, 1))
+    return SimState(rng.normal(size=(n, 2)) * mag, rng.normal(size=(n, 2)) * mag, rng.normal(size=n), rng.normal(size=n),
+                    rng.uniform(0.1, 5, n), rng.uniform(0.01, 1, n), np.array([0.0, -9.81]),
+                    lambda: rng.random(n) < 0.5)
+
+
+def test_cheaper_force_laws_give_the_textbook_formulas_to_the_bit():
+    """Session 12: drag, rolling resistance and the attractor compute norms by ``np.add.reduce``,
+    region edges clip by ``np.minimum``/``np.maximum``; the replaced expressions are the references."""
+    from voe.gap.effects.point_attractor import _SOFT, PointAttractor
+    from voe.gap.effects.quadratic_drag import QuadraticDrag
+    from voe.gap.effects.region import inside
+    from voe.gap.effects.rolling_resistance import _V0, RollingResistance
+
+    rng = np.random.default_rng(12)
+    for trial in range(300):
+        st = _state(rng, int(rng.integers(1, 40)))
+        p = np.array([rng.uniform(0, 2), rng.normal(), rng.normal()])
+        speed = np.linalg.norm(st.vel, axis=1, keepdims=True)
+        np.testing.assert_array_equal(QuadraticDrag()._forces(st, p[:1])[0], -p[0] * st.mass[:, None] * speed * st.vel)
+        touch = np.random.default_rng(trial).random(len(st.mass)) < 0.5
+        st.contact = lambda t=touch: t
+        g = float(np.linalg.norm(st.gravity))
+        want = -p[0] * g * (st.mass * touch.astype(float))[:, None] * st.vel / np.sqrt(speed**2 + _V0**2)
+        np.testing.assert_array_equal(RollingResistance()._forces(st, p[:1])[0], want)
+        d = p[None, 1:3] - st.pos
+        want = st.mass[:, None] * p[0] * d / (np.sum(d**2, axis=1, keepdims=True) + _SOFT**2) ** 1.5
+        np.testing.assert_array_equal(PointAttractor()._forces(st, p)[0], want)
+        x = st.pos[:, 0].copy()
+        if trial % 3 == 0:
+            x[0] = np.nan  # a diverged rollout stays NaN, as with np.clip
+        a, b = np.clip((x - p[1]) / 0.01, -50, 50), np.clip((p[2] - x) / 0.01, -50, 50)
+        np.testing.assert_array_equal(inside(x, p[1], p[2]), 1.0 / (1.0 + np.exp(-a)) / (1.0 + np.exp(-b)))

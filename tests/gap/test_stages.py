@@ -387,3 +387,15 @@ def test_explanation_does_not_claim_a_cut_when_the_test_error_rises():
         text = explain("mismatch", [eff], [["friction_region"]], [], ver, 0.05, np.full((2, 3), 1e-3), "test", 17.0)
         assert ("cuts the error" in text) == cut and ("less" in text) == cut
         assert ("does not carry over to the test episodes" in text) != cut
+
+
+def test_a_region_that_predicts_no_better_than_its_global_form_is_named_global():
+    from voe.gap.search import TieBreak, tie_keeps_global
+
+    cands = {k: EFFECTS.get(k)() for k in ("rolling_resistance_region", "rolling_resistance", "friction_region")}
+    region, plain = "rolling_resistance_region", "rolling_resistance"
+    assert tie_keeps_global(region, (region, plain), TieBreak(3), cands)  # indistinguishable where they differ
+    assert tie_keeps_global(region, (region, plain), None, cands)  # no window tells them apart
+    assert not tie_keeps_global(region, (region, plain), TieBreak(3, (plain,)), cands)  # worse, just not provably
+    assert not tie_keeps_global(region, (region, "friction_region"), TieBreak(3), cands)  # the global form ruled out
+    assert not tie_keeps_global(plain, (plain, region), TieBreak(3), cands)  # not a region effect

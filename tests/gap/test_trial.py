@@ -55,3 +55,64 @@ def test_a_provisional_winner_stays_only_if_the_next_round_confirms_it():
     assert "not confirmed" in res.rounds[0].basis
     res = greedy(_TableFitter(table), cands, lambda r: 0.1, 1, set(), 1e-3)  # no next round: no trial
     assert res.keys == () and len(res.rounds) == 1
+
+
+class _PairFitter:
+    """Selection errors per window, training costs and training motions from tables keyed by the
+    effects' names, for both the greedy loop and the pair step (missing keys: no change)."""
+
+    def __init__(self, sse: dict[str, np.ndarray], names: tuple[str, ...]) -> None:
+        moves = {"": np.zeros(len(names)), **{k: 10.0 * np.eye(len(names))[i] for i, k in enumerate(names)}}
+        self.sse, self.costs, self.moves = sse, {k: float(i) for i, k in enumerate(names)}, moves
+        self.shooter, self.folds = self, [self]
+        self.n_rollouts, self._n_test, self.train = 0, 20, [None]
+
+    def _key(self, effect) -> str:
+        return "+".join(sorted(e.name for e in effect.parts)) if effect is not None else ""
+
+    def _result(self, effect, params):
+        from voe.gap.fit import FitResult
+
+        return FitResult(effect, params, 0.0, 0.0, self.sse.get(self._key(effect), self.sse[""]), (params,))
+
+    def heldout_sse(self) -> np.ndarray:
+        return self.sse[""]
+
+    def fit_candidate(self, current, cand):
+        from voe.gap.effects.base import EffectSum
+
+        eff = EffectSum((current.effect.parts if current is not None else ()) + cand.parts)
+        return self._result(eff, np.zeros(eff.n_params))
+
+    def refine(self, res):
+        return res
+
+    def refit(self, effect, fold_starts, max_nfev=None):
+        return self._result(effect, fold_starts[0])
+
+    def cost(self, effect, params) -> float:
+        return self.costs[self._key(effect)]
+
+    def residuals(self, windows, effect, params) -> list[np.ndarray]:
+        return [self.moves[self._key(effect)]]
+
+
+def test_an_undone_trial_falls_back_to_the_pair_step_on_its_round():
+    from voe.gap.greedy import greedy
+    from voe.gap.null import NullSearch
+
+    names = ("quadratic_drag", "angular_damping", "linear_drag")
+    cands = {k: EFFECTS.get(k)() for k in names}
+    base = np.ones(20)
+    lin = np.r_[np.full(2, 1e-8), np.full(18, 2.0)]  # (W,) beats the threshold, lower bound not positive
+    pair = np.full(20, 0.05)  # two effects that remove the error together, each alone no help
+    data = {"": base, "linear_drag": lin, "angular_damping+linear_drag": lin, "linear_drag+quadratic_drag": lin,
+            "angular_damping+quadratic_drag": pair}
+    null = NullSearch(_PairFitter({"": base}, names), cands, alpha=0.05, min_gain=0.05, seed=0)
+    res = greedy(_PairFitter(data, names), cands, null, 3, set(), 1e-3)
+    assert res.keys == ("quadratic_drag", "angular_damping")  # lower training cost first
+    assert "linear_drag passed only provisionally" in res.rounds[-2].basis and res.rounds[0].winner is None
+    data["angular_damping+quadratic_drag"] = np.full(20, 0.99)  # the pair gains 0.5 %: still nothing
+    null = NullSearch(_PairFitter({"": base}, names), cands, alpha=0.05, min_gain=0.05, seed=0)
+    res = greedy(_PairFitter(data, names), cands, null, 3, set(), 1e-3)
+    assert res.keys == () and res.model is None

@@ -5,7 +5,8 @@ Why: the greedy search can accept an empty effect (in one run a ``quadratic_drag
 took the credit for refitting a correct ``rolling_resistance``). So each accepted effect is
 removed in turn and the rest refitted without it; the selection error must rise by more than the
 threshold of the round that accepted it, or it goes. Each remaining effect's parameters get 95 %
-bootstrap intervals over fitting windows, and an effect whose interval contains its nominal
+intervals (a bootstrap over fitting windows joined with a parametric bootstrap on replicates
+simulated under the fit, ``voe.gap.parametric``), and an effect whose interval contains its nominal
 value (zero strength, the scene's own coefficient) is not established and not reported. Only
 then are the test episodes, untouched so far, simulated.
 """
@@ -19,6 +20,7 @@ import numpy as np
 from voe.gap.effects.base import Effect, EffectSum
 from voe.gap.fit import FitResult
 from voe.gap.folds import as_sum, without
+from voe.gap.parametric import replicate_errors
 from voe.gap.search import Round, window_gain
 from voe.gap.stages import GapConfig, Location, Problem, Search, context_for, fit_windows
 from voe.gap.uncertainty import established, intervals
@@ -64,8 +66,10 @@ def check_step(p: Problem, loc: Location, s: Search, config: GapConfig, seed: in
                                                              f"not more than the threshold {100 * thresholds[k]:.1f} %"})
                 model, keys, thresholds = as_sum(red), keys[:k] + keys[k + 1:], thresholds[:k] + thresholds[k + 1:]
                 continue
+        errors = replicate_errors(p, fit_ids, config.fit_window, model.effect, model.params, ctx, config.fit.f_scale,
+                                  seed)
         lo, hi = intervals(p.shooter, p.sigma, fit_windows(p, fit_ids, config), model.effect, model.params,
-                           ctx, config.fit.f_scale, seed)
+                           ctx, config.fit.f_scale, seed, errors)
         ok = established(model.effect, lo, hi, ctx)
         if all(ok):
             break

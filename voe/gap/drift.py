@@ -45,6 +45,7 @@ from voe.gap.check import Checked, verify_on_test
 from voe.gap.effects.base import Effect, EffectSum, FitContext
 from voe.gap.folds import as_sum, without
 from voe.gap.nuisance import profiled_terms
+from voe.gap.parametric import replicate_errors
 from voe.gap.prefit import FlightSamples, _missing
 from voe.gap.shooting import Shooter, Window, make_windows
 from voe.gap.stages import GapConfig, Location, Problem, Search, context_for
@@ -215,7 +216,9 @@ def drift_step(p: Problem, loc: Location, s: Search, c: Checked, config: GapConf
         model = None if eff is None else as_sum(s.fitter.refit(eff, starts, s.fitter.config.refine_nfev))
     if model is not None:
         fit_w = make_windows(p.episodes, list(p.split.fit), config.fit_window, bad_start=p.bad)
-        lo, hi = intervals(p.shooter, p.sigma, fit_w, model.effect, model.params, ctx, config.fit.f_scale, seed)
+        errors = replicate_errors(p, p.split.fit, config.fit_window, model.effect, model.params, ctx,
+                                  config.fit.f_scale, seed)
+        lo, hi = intervals(p.shooter, p.sigma, fit_w, model.effect, model.params, ctx, config.fit.f_scale, seed, errors)
         if not all(established(model.effect, lo, hi, ctx)):  # what is left must still be established
             for k in reversed(range(len(keys))):
                 dropped.append({"effect": keys[k], "reason": "left without a drifting effect, it is not established"})

@@ -35,6 +35,20 @@ PAIR_TOP = 3  # candidates of lowest training cost whose pairs are fitted (3 pai
 
 
 @dataclass(frozen=True)
+class NullSnapshot:
+    """The null search as it stood at one round (what ``pair_step`` reads of a ``NullSearch``),
+    with that round's candidate fits ``results``: kept so the pair step can be run on an earlier
+    round after the null has moved on (``voe.gap.greedy``, an undone trial)."""
+
+    fitter: FoldedFitter
+    current: FitResult | None
+    before_sse: np.ndarray  # (W,) the null's selection errors before that round
+    alpha: float
+    seed: int
+    results: dict[str, FitResult]
+
+
+@dataclass(frozen=True)
 class Pair:
     """The best jointly fitted pair of a round: its keys (lower training cost first), fit and gain."""
 
@@ -140,7 +154,7 @@ class PairStep:
 
 
 def pair_step(fitter: FoldedFitter, results: dict[str, FitResult], gains: dict[str, float], lower: dict[str, float],
-              before: float, current: FitResult | None, before_sse: np.ndarray, null: NullSearch,
+              before: float, current: FitResult | None, before_sse: np.ndarray, null: NullSearch | NullSnapshot,
               null_results: dict[str, FitResult], thr: float, q: float, n_jobs: int = 1) -> PairStep | None:
     """The data's best jointly fitted pair if it passes its threshold, else None.
 

@@ -268,6 +268,27 @@ def covers_contacts(fitter: FoldedFitter, res: FitResult) -> bool:
     return bool(xs.size) and float(np.mean((xs >= x0) & (xs <= x1))) >= COVER
 
 
+def tie_keeps_global(winner: str, kept: tuple[str, ...], tie: TieBreak | None, candidates: dict[str, Effect]) -> bool:
+    """Whether a region winner's unlimited form (``global_name``) stays in its group as
+    indistinguishable: within ``GROUP_TOL`` on the windows where the members' predictions differ
+    (not merely unproven there), or with no such windows at all.
+
+    Why: a region effect is its global effect plus two edges (x0 -> -inf, x1 -> +inf gives it
+    back), so the two are nested and the simpler one stands unless the data need the edges.
+    Development case 8586037 (a true global ``rolling_resistance``, c = 0.087): the group held
+    ``rolling_resistance_region`` (gain 25.2 %, c = 0.095 over x -0.57..4.61 m) and
+    ``rolling_resistance`` (24.5 %), 3 selection windows told them apart, and the region was
+    named although 9 % of the contact samples lay outside its interval, where the truth acted
+    too. A member that is worse on those windows but not provably so (``TieBreak.unproven``)
+    does not count: a real patch keeps its name when the global form predicts worse off the
+    patch.
+    """
+    plain = candidates[winner].global_name
+    if plain is None or plain not in kept:
+        return False
+    return tie is None or plain not in tie.unproven
+
+
 def choose(gains: dict[str, float], lower: dict[str, float], threshold: float) -> list[str]:
     """Candidates whose gain beats ``threshold``, whose bootstrap lower bound is positive and
     whose error is within ``GROUP_TOL`` of the best such candidate's (best first); [] if none."""

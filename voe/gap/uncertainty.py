@@ -22,6 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from voe.gap.effects.base import Effect, FitContext
+from voe.gap.parametric import basic_interval
 from voe.gap.shooting import Shooter, Window
 
 N_BOOT = 400
@@ -84,8 +85,14 @@ INFORM_REL = 1e-4  # a window with less than this share of the top window's curv
 
 
 def intervals(shooter: Shooter, sigma: np.ndarray, windows: list[Window], effect: Effect, params: np.ndarray,
-              ctx: FitContext, f_scale: float = 3.0, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
-    """(P,) lower and upper ends of the 95 % bootstrap interval of ``params``.
+              ctx: FitContext, f_scale: float = 3.0, seed: int = 0,
+              errors: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """(P,) lower and upper ends of the 95 % interval of ``params``.
+
+    With ``errors`` (R, P), the estimator's errors on replicates simulated under the fit
+    (``voe.gap.parametric.replicate_errors``), the interval is the hull of the fit, the window
+    bootstrap's percentile interval and the bias-corrected parametric interval, not widened
+    (``bootstrap``). Without, the window bootstrap alone, widened by ``INFLATE``.
 
     Each part of a sum is bounded with the other parts held at their fitted values. Why: two
     parts can trade off (a mass scale and an absolute damping torque set the same ratio), and a
@@ -94,7 +101,7 @@ def intervals(shooter: Shooter, sigma: np.ndarray, windows: list[Window], effect
     (``voe.gap.check``).
     """
     terms = window_terms(shooter, sigma, windows, effect, params, ctx, f_scale)
-    return bootstrap(terms, effect, params, ctx, seed)
+    return bootstrap(terms, effect, params, ctx, seed, errors=errors)
 
 
 def window_terms(shooter: Shooter, sigma: np.ndarray, windows: list[Window], effect: Effect, params: np.ndarray,
@@ -106,19 +113,23 @@ def window_terms(shooter: Shooter, sigma: np.ndarray, windows: list[Window], eff
     scale = effect.scale(ctx)
     n_p = len(params)
     h_list, g_list, e_list = [], [], []
-    for w in windows:
+    base = shooter.residuals(windows, effect, params)  # all windows side by side: the same numbers, one pass
+    moved, steps = [], []
+    for j in range(n_p):
+        step = 0.1 * scale[j]
+        step = step if params[j] + step <= hi_b[j] else -step
+        p = params.copy()
+        p[j] += step
+        moved.append(shooter.residuals(windows, effect, p))
+        steps.append(step)
+    for k, w in enumerate(windows):
         wt = 1.0 / shooter.sigma_pred(w, sigma)  # (n, B, 3)
-        r0 = (shooter.residual(w, effect, params) * wt).reshape(-1)
+        r0 = (base[k] * wt).reshape(-1)
         if not np.all(np.isfinite(r0)):
             continue
         jac = np.zeros((r0.size, n_p))
         for j in range(n_p):
-            step = 0.1 * scale[j]
-            up = params[j] + step <= hi_b[j]
-            p = params.copy()
-            p[j] += step if up else -step
-            rj = (shooter.residual(w, effect, p) * wt).reshape(-1)
-            jac[:, j] = (rj - r0) / (step if up else -step)
+            jac[:, j] = ((moved[j][k] * wt).reshape(-1) - r0) / steps[j]
         irls = 1.0 / np.sqrt(1.0 + (r0 / f_scale) ** 2)  # soft-L1 weights at the fit
         jw = jac * irls[:, None]
         h_list.append(jw.T @ jac)
@@ -131,16 +142,28 @@ def window_terms(shooter: Shooter, sigma: np.ndarray, windows: list[Window], eff
 
 def bootstrap(terms: tuple[np.ndarray, np.ndarray, np.ndarray], effect: Effect, params: np.ndarray,
               ctx: FitContext, seed: int = 0, inflate: float | None = None,
-              by_episode: bool = BY_EPISODE) -> tuple[np.ndarray, np.ndarray]:
+              by_episode: bool = BY_EPISODE, errors: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """The 95 % interval from per-window terms (``window_terms``): the bootstrap's percentile
     interval (``quantiles``) joined with the fitted value, widened away from the fitted value on each side by
     ``inflate`` (default ``INFLATE``), at least the fit's own tolerance, within the bounds; a
-    parameter that moves no prediction gets its whole bounded range."""
+    parameter that moves no prediction gets its whole bounded range.
+
+    With the parametric bootstrap's ``errors`` (R, P) the percentile interval is instead joined
+    with the bias-corrected parametric interval about the whole sample's one-step estimate
+    (``voe.gap.parametric.basic_interval``) and not widened (``inflate`` defaults to 1). Why:
+    the widening stood in for the estimator's bias and the noise the windows do not show, which
+    the replicates now measure; widening on top pushed true, well-measured effects over their
+    nominal value (``voe.gap.parametric``). The window bootstrap stays in the hull because it
+    also sees what the noise model does not (residuals that are not noise)."""
     lo_b, hi_b = effect.bounds(ctx)
     if len(terms[0]) == 0:
         return lo_b.astype(float), hi_b.astype(float)
     q_lo, q_hi, blind = quantiles(terms, effect, params, ctx, seed, by_episode)
-    lo, hi = widen(params, q_lo, q_hi, effect.scale(ctx), INFLATE if inflate is None else inflate)
+    if errors is not None:
+        p_lo, p_hi = basic_interval(one_step(terms, effect, params, ctx), errors)
+        q_lo, q_hi = np.fmin(q_lo, p_lo), np.fmax(q_hi, p_hi)
+    k = (1.0 if errors is not None else INFLATE) if inflate is None else inflate
+    lo, hi = widen(params, q_lo, q_hi, effect.scale(ctx), k)
     lo, hi = np.clip(lo, lo_b, hi_b), np.clip(hi, lo_b, hi_b)
     return np.where(blind, lo_b, lo), np.where(blind, hi_b, hi)
 
@@ -182,18 +205,14 @@ def quantiles(terms: tuple[np.ndarray, np.ndarray, np.ndarray], effect: Effect, 
     wald = np.zeros(len(params))  # (P,)
     move = np.zeros(len(params))  # (P,) the whole sample's one-step move from the fit (``SHIFT``)
     shift = SHIFT if shift is None else shift
+    if shift:
+        move = one_step((hs, gs, eps), effect, params, ctx) - params
     i = 0
     for e in effect.parts:
         sl = slice(i, i + e.n_params)
         i += e.n_params
         inf = informs(h_g[:, sl, sl], scale[sl]) if STRATIFY else np.ones(len(groups), dtype=bool)  # (G,)
         h_p, g_p = h_g[inf], g_g[inf]  # the part's informative groups
-        if shift and len(g_p):
-            try:
-                h_all = h_p.sum(axis=0) + ridge
-                move[sl] = _step(params[sl], h_all[sl, sl], g_p.sum(axis=0)[sl], lo_b[sl], hi_b[sl]) - params[sl]
-            except np.linalg.LinAlgError:
-                pass
         if CENTRE and len(g_p):
             g_p = g_p - g_p.mean(axis=0)  # the whole sample steps nowhere: resamples vary about the fit
         idx = rng.integers(0, max(len(h_p), 1), size=(N_BOOT, len(h_p)))  # (N_BOOT, G_inf)
@@ -215,6 +234,31 @@ def quantiles(terms: tuple[np.ndarray, np.ndarray, np.ndarray], effect: Effect, 
     if not STRATIFY:
         return q_lo, q_hi, blind
     return np.minimum(q_lo, params + move - wald), np.maximum(q_hi, params + move + wald), blind
+
+
+def one_step(terms: tuple[np.ndarray, np.ndarray, np.ndarray], effect: Effect, params: np.ndarray,
+             ctx: FitContext) -> np.ndarray:
+    """(P,) the whole sample's one-step Gauss-Newton estimate from ``params`` over every window
+    that informs each part (``informs``), each part stepped with the others held at ``params``,
+    within the bounds; a part that no window informs stays where it is."""
+    hs, gs, _ = terms
+    scale = effect.scale(ctx)
+    lo_b, hi_b = effect.bounds(ctx)
+    ridge = 1e-9 * np.diag(1.0 / scale**2)
+    out = np.asarray(params, dtype=float).copy()
+    i = 0
+    for e in effect.parts:
+        sl = slice(i, i + e.n_params)
+        i += e.n_params
+        inf = informs(hs[:, sl, sl], scale[sl]) if STRATIFY else np.ones(len(hs), dtype=bool)  # (W,)
+        if not inf.any():
+            continue
+        try:
+            h_all = hs[inf].sum(axis=0) + ridge
+            out[sl] = _step(params[sl], h_all[sl, sl], gs[inf].sum(axis=0)[sl], lo_b[sl], hi_b[sl])
+        except np.linalg.LinAlgError:
+            pass
+    return out
 
 
 def informs(h: np.ndarray, scale: np.ndarray) -> np.ndarray:

@@ -205,6 +205,9 @@ class _Kick:
         self._touching: np.ndarray | None = None
         self.dt = np.repeat(dts, self.per_world, axis=1)  # (K, W*B) per kick and body
         self.dt_mass = (self.dt / self.mass)[:, :, None]  # (K, W*B, 1): dt / m, as v += f * (dt / m)
+        self.reads = [(r.space, r.data) for r in self.readers]  # one C call per world and kick
+        self.arr = buf._float_arr  # noqa: SLF001
+        self._view: tuple[object, np.ndarray] | None = None  # (C array it views, (W, rows, 6) view)
 
     def _contact(self) -> np.ndarray:
         """(W*B,) bool: the body has an arbiter (touches something); computed once per kick."""
@@ -218,25 +221,53 @@ class _Kick:
             self._touching = out
         return self._touching.copy()
 
+    def _state(self) -> np.ndarray:
+        """(W*B, 6) x, y, angle, vx, vy, omega of every body, read now (a fresh array).
+
+        The C array the reads fill is viewed by one numpy array, made at the first kick and
+        kept while the array stays where it is: every kick reads the same number of values, so
+        pymunk never has to move it after the first (checked at every kick all the same).
+        """
+        self.arr.num = 0
+        each = lib.cpSpaceEachBody
+        for space, data in self.reads:
+            each(space, _GET, data)
+        if self._view is None or self._view[0] != self.arr.arr:
+            full = np.frombuffer(ffi.buffer(self.arr.arr, 8 * self.arr.num)).reshape(-1, self.rows, 6)
+            self._view = (self.arr.arr, full[:, :self.per_world])  # (W, B, 6)
+        return np.array(self._view[1]).reshape(-1, 6)
+
     def __call__(self, m: int) -> None:
-        """Kick ``m`` (its intervals are row ``m`` of the rollout's ``_kick_dts``)."""
-        self.readers[0].reset()
-        for r in self.readers:
-            r.read()
-        raw = self.readers[0].array(self.rows, 6)[:, :self.per_world].reshape(-1, 6).copy()  # (N, 6)
+        """Kick ``m`` (its intervals are row ``m`` of the rollout's ``_kick_dts``).
+
+        Velocities are written body by body, and only where the force (torque) is non-zero, as
+        ``SimWorld.run`` does; when every component is non-zero (a drag or a field acting on all
+        bodies in flight, the common case) the per-body test is skipped.
+        """
+        raw = self._state()  # (N, 6)
         vel = raw[:, 3:5]  # (N, 2)
         self._touching = None
         st = SimState(raw[:, 0:2], vel, raw[:, 2], raw[:, 5], self.mass, self.moment, self.gravity, self._contact)
         f, tau = self.force(st)  # (N, 2), (N,)
-        if np.count_nonzero(f):
+        nz = np.count_nonzero(f)
+        if nz:
             set_v = lib.cpBodySetVelocity
             v_new = (vel + f * self.dt_mass[m]).tolist()  # (N, 2)
-            for ptr, v, fb in zip(self.ptrs, v_new, f.tolist(), strict=True):
-                if fb[0] or fb[1]:
+            if nz == f.size:
+                for ptr, v in zip(self.ptrs, v_new, strict=True):
                     set_v(ptr, v)
-        if np.count_nonzero(tau):
+            else:
+                for ptr, v, fb in zip(self.ptrs, v_new, f.tolist(), strict=True):
+                    if fb[0] or fb[1]:
+                        set_v(ptr, v)
+        nz = np.count_nonzero(tau)
+        if nz:
             set_w = lib.cpBodySetAngularVelocity
             w_new = (st.omega + tau * self.dt[m] / self.moment).tolist()  # (N,)
-            for ptr, w, tb in zip(self.ptrs, w_new, tau.tolist(), strict=True):
-                if tb:
+            if nz == tau.size:
+                for ptr, w in zip(self.ptrs, w_new, strict=True):
                     set_w(ptr, w)
+            else:
+                for ptr, w, tb in zip(self.ptrs, w_new, tau.tolist(), strict=True):
+                    if tb:
+                        set_w(ptr, w)

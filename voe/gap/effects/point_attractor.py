@@ -31,7 +31,7 @@ class PointAttractor(Effect):
 
     def _forces(self, state: SimState, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         d = p[None, 1:3] - state.pos  # (B, 2)
-        r2 = np.sum(d**2, axis=1, keepdims=True) + _SOFT**2
+        r2 = np.add.reduce(d * d, axis=1, keepdims=True) + _SOFT**2  # np.sum(d**2, ...) to the bit, cheaper per kick
         return state.mass[:, None] * p[0] * d / r2**1.5, np.zeros_like(state.angle)
 
     def starts(self, ctx: FitContext) -> list[np.ndarray]:

@@ -24,8 +24,9 @@ _V0 = 0.01  # m/s, smoothing speed of the force direction
 
 def inside(x: np.ndarray, x0: float, x1: float) -> np.ndarray:
     """Smooth indicator of x0 <= x <= x1, (B,)."""
-    a = np.clip((x - x0) / EDGE, -50, 50)
-    b = np.clip((x1 - x) / EDGE, -50, 50)
+    # np.clip's values to the bit (NaN kept), at a third of its cost: this runs at every kick
+    a = np.minimum(np.maximum((x - x0) / EDGE, -50.0), 50.0)
+    b = np.minimum(np.maximum((x1 - x) / EDGE, -50.0), 50.0)
     return 1.0 / (1.0 + np.exp(-a)) / (1.0 + np.exp(-b))
 
 
