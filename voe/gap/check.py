@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from voe.gap.effects.base import Effect, EffectSum
+from voe.gap.effects.base import Effect, EffectSum, FitContext
 from voe.gap.fit import FitResult
 from voe.gap.folds import as_sum, without
 from voe.gap.parametric import replicate_errors
@@ -39,6 +39,18 @@ class Checked:
     verification: Verification
     test_note: str
     nominal: np.ndarray  # (P,) the model's parameters at which nothing changes (NaN: no such value)
+
+
+def model_intervals(p: Problem, fit_ids: tuple[int, ...], model: FitResult, ctx: FitContext, config: GapConfig,
+                    seed: int) -> tuple[np.ndarray, np.ndarray]:
+    """(P,) 95 % interval ends of ``model``'s parameters on the fitting episodes ``fit_ids``: the
+    window bootstrap joined with the parametric bootstrap on replicates simulated under the fit
+    (``voe.gap.uncertainty.intervals``, ``voe.gap.parametric``). One place for the check and
+    the drift step, so both judge "established" on the same interval."""
+    errors = replicate_errors(p, fit_ids, config.fit_window, model.effect, model.params, ctx, config.fit.f_scale,
+                              seed)
+    return intervals(p.shooter, p.sigma, fit_windows(p, fit_ids, config), model.effect, model.params,
+                     ctx, config.fit.f_scale, seed, errors)
 
 
 def check_step(p: Problem, loc: Location, s: Search, config: GapConfig, seed: int) -> Checked:
@@ -66,10 +78,7 @@ def check_step(p: Problem, loc: Location, s: Search, config: GapConfig, seed: in
                                                              f"not more than the threshold {100 * thresholds[k]:.1f} %"})
                 model, keys, thresholds = as_sum(red), keys[:k] + keys[k + 1:], thresholds[:k] + thresholds[k + 1:]
                 continue
-        errors = replicate_errors(p, fit_ids, config.fit_window, model.effect, model.params, ctx, config.fit.f_scale,
-                                  seed)
-        lo, hi = intervals(p.shooter, p.sigma, fit_windows(p, fit_ids, config), model.effect, model.params,
-                           ctx, config.fit.f_scale, seed, errors)
+        lo, hi = model_intervals(p, fit_ids, model, ctx, config, seed)
         ok = established(model.effect, lo, hi, ctx)
         if all(ok):
             break

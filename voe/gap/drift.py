@@ -41,15 +41,14 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.optimize import least_squares
 
-from voe.gap.check import Checked, verify_on_test
+from voe.gap.check import Checked, model_intervals, verify_on_test
 from voe.gap.effects.base import Effect, EffectSum, FitContext
 from voe.gap.folds import as_sum, without
 from voe.gap.nuisance import profiled_terms
-from voe.gap.parametric import replicate_errors
 from voe.gap.prefit import FlightSamples, _missing
 from voe.gap.shooting import Shooter, Window, make_windows
 from voe.gap.stages import GapConfig, Location, Problem, Search, context_for
-from voe.gap.uncertainty import established, intervals, window_terms
+from voe.gap.uncertainty import established, window_terms
 from voe.sim.scenefile import SceneSpec
 
 ALPHA = 0.05  # family-wise over every slot and parameter of a model (Bonferroni), as the null's alpha
@@ -215,10 +214,7 @@ def drift_step(p: Problem, loc: Location, s: Search, c: Checked, config: GapConf
         keys = keys[:d.part] + keys[d.part + 1:]
         model = None if eff is None else as_sum(s.fitter.refit(eff, starts, s.fitter.config.refine_nfev))
     if model is not None:
-        fit_w = make_windows(p.episodes, list(p.split.fit), config.fit_window, bad_start=p.bad)
-        errors = replicate_errors(p, p.split.fit, config.fit_window, model.effect, model.params, ctx,
-                                  config.fit.f_scale, seed)
-        lo, hi = intervals(p.shooter, p.sigma, fit_w, model.effect, model.params, ctx, config.fit.f_scale, seed, errors)
+        lo, hi = model_intervals(p, p.split.fit, model, ctx, config, seed)
         if not all(established(model.effect, lo, hi, ctx)):  # what is left must still be established
             for k in reversed(range(len(keys))):
                 dropped.append({"effect": keys[k], "reason": "left without a drifting effect, it is not established"})
