@@ -28,6 +28,7 @@ from voe.gap.search import (
     Round,
     RoundTask,
     accept_all,
+    bound_limit,
     choose,
     covers_contacts,
     fit_rounds,
@@ -122,6 +123,12 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
             if why:
                 kept = (plain,) + tuple(k for k in kept if k != plain)
                 winner, basis, tie = plain, f"{why}: named {plain}, the whole floor", None
+        lim = bound_limit(fitter, winner, kept, results, pool)
+        if lim is not None:
+            kept = (lim,) + tuple(k for k in kept if k != lim)
+            basis = (f"{winner}'s fit sits at the bound where it becomes {lim}, which predicts as well ({basis}): "
+                     f"named {lim}, the simpler")
+            winner, tie = lim, None
         if trial is not None:
             if not trial.confirmed(results[winner].window_sse, q):
                 rounds.append(Round(before, results, gains, lower, thr, basis=trial.refused(winner)))

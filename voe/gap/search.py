@@ -289,6 +289,39 @@ def tie_keeps_global(winner: str, kept: tuple[str, ...], tie: TieBreak | None, c
     return tie is None or plain not in tie.unproven
 
 
+def bound_limit(fitter: FoldedFitter, winner: str, kept: tuple[str, ...], results: dict[str, FitResult],
+                candidates: dict[str, Effect]) -> str | None:
+    """The key of the winner's nested limit (``Effect.limit_name``) if the winner's fit sits at
+    the bound that stands for that limit in every fold (``Effect.at_limit``) and the limit stayed
+    in the winner's group ``kept``; else None.
+
+    Why: a spring whose anchor runs to infinity is a constant force, so ``spring_anchor`` nests
+    ``constant_acceleration`` as a limit its bounded search cannot reach. A fit that stops at
+    the anchor's bound was heading for that limit, and its anchor is an artefact of where the
+    bound lies. If the limit then predicts the selection windows as well (it stayed in the
+    group: within ``GROUP_TOL``, or on the windows where their predictions differ not ruled out
+    by the sign test), the data do not need the extra parameter and the simpler effect is named,
+    as ``tie_keeps_global`` names a region's global form. Unlike there, a member that is worse
+    but not provably so counts: the winner's own fit ran to the edge of its family, towards the
+    limit. Development cases 1531002 and 3629057 (a wind and a spin damping): round 1's group
+    held ``spring_anchor`` (gains 37.4 % and 38.3 %, anchors at x = 12.4 m and y = -2.24 m, both
+    bounds) and ``constant_acceleration`` (33.2 %, 34.0 %), and the spring was named.
+    """
+    part = candidates[winner]
+    if part.limit_name is None:
+        return None
+    lim = next((k for k in kept if k != winner and candidates[k].name == part.limit_name), None)
+    res = results.get(winner)
+    if lim is None or res is None:
+        return None
+    n = part.n_params
+    folds = fitter.folds
+    if len(res.fold_params) != len(folds) or not all(part.at_limit(p[-n:], f.ctx) for f, p in zip(folds, res.fold_params,
+                                                                                                 strict=True)):
+        return None
+    return lim
+
+
 def choose(gains: dict[str, float], lower: dict[str, float], threshold: float) -> list[str]:
     """Candidates whose gain beats ``threshold``, whose bootstrap lower bound is positive and
     whose error is within ``GROUP_TOL`` of the best such candidate's (best first); [] if none."""

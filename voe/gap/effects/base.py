@@ -17,6 +17,8 @@ import numpy as np
 
 from voe.sim.scenefile import Materials, SceneSpec, SimState
 
+BOUND_TOL = 0.01  # a parameter within 1 % of its bounded range from a bound sits at that bound (``Effect.at_limit``)
+
 
 @dataclass(frozen=True)
 class FitContext:
@@ -58,6 +60,8 @@ class Effect:
     bench_scene: ClassVar[str | None] = None  # the bench scene it is concealed in ("arena", "pendulum"), or None
     multi_start: ClassVar[int] = 1  # simulator fits from its this many most promising starts (voe.gap.fit)
     global_name: ClassVar[str | None] = None  # a region effect's unlimited version (voe.gap.search.covers_contacts)
+    limit_name: ClassVar[str | None] = None  # the simpler effect it nests as ``limit_params`` run off (``at_limit``)
+    limit_params: ClassVar[tuple[int, ...]] = ()  # indices of the parameters whose bound stands for that limit
 
     def __init__(self, bodies: tuple[str, ...] | None = None) -> None:
         self.bodies = tuple(bodies) if bodies else None
@@ -97,6 +101,27 @@ class Effect:
     def bounds(self, ctx: FitContext) -> tuple[np.ndarray, np.ndarray]:
         """Lower and upper bounds, (P,) each."""
         return np.full(self.n_params, -np.inf), np.full(self.n_params, np.inf)
+
+    def at_limit(self, params: np.ndarray, ctx: FitContext) -> bool:
+        """Whether a fit ``params`` sits at the search bound of a ``limit_params`` parameter, where
+        the effect stands in for its nested simpler limit ``limit_name``.
+
+        Why: some effects contain a simpler one as a limit the bounded search cannot reach. A
+        spring whose anchor runs off to infinity (stiffness falling as the distance grows) pulls
+        with the same force everywhere: ``constant_acceleration``. A fit that stops at the
+        anchor's bound (within ``BOUND_TOL`` of the bounded range) was heading for that limit,
+        and says nothing about an anchor; ``voe.gap.search.bound_limit`` then names the limit
+        when the data cannot tell the two apart.
+        """
+        if self.limit_name is None:
+            return False
+        p = self.check(params)
+        lo, hi = self.bounds(ctx)
+        for i in self.limit_params:
+            tol = BOUND_TOL * float(hi[i] - lo[i])
+            if p[i] <= lo[i] + tol or p[i] >= hi[i] - tol:
+                return True
+        return False
 
     def nominal(self, ctx: FitContext) -> np.ndarray:
         """(P,) parameter values at which the effect changes nothing (NaN where none exists, e.g.

@@ -28,6 +28,10 @@ class PointAttractor(Effect):
     # but 2x too strong cost more than zero strength on the quick screen, and Powell started at
     # zero strength never moved): fit from the two most promising starts, keep the better
     multi_start = 2
+    # a point at infinity with k / |p - r|^2 held fixed pulls with one constant force: a fitted
+    # point at its search bound stands for ``constant_acceleration`` (``Effect.at_limit``)
+    limit_name = "constant_acceleration"
+    limit_params = (1, 2)
 
     def _forces(self, state: SimState, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         d = p[None, 1:3] - state.pos  # (B, 2)

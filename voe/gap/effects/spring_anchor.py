@@ -2,7 +2,8 @@
 
 Why: a tether, elastic cord or restoring field pulls harder the further a body goes; unlike the
 point attractor the pull grows with distance. Starts from a 3 x 3 grid of anchors at two
-stiffnesses.
+stiffnesses. Its anchor is searched within one recorded span beyond the recorded region; an
+anchor fitted at that bound stands for the constant-force limit (``limit_name``).
 """
 
 from __future__ import annotations
@@ -20,6 +21,11 @@ class SpringAnchor(Effect):
     contexts = ("region",)
     summary = "bodies are pulled back toward an anchor in proportion to distance (a spring)"
     bench_scene = "arena"
+    # an anchor at infinity with k |p - r| held fixed pulls with one constant force: a fitted
+    # anchor at its search bound stands for that limit (development cases 1531002, 3629057: a
+    # wind and a spin damping named as a spring anchored at the bound)
+    limit_name = "constant_acceleration"
+    limit_params = (1, 2)
 
     def _forces(self, state: SimState, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return -p[0] * state.mass[:, None] * (state.pos - p[None, 1:3]), np.zeros_like(state.angle)
