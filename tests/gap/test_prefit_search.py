@@ -192,3 +192,23 @@ def test_mass_may_act_only_where_bodies_come_within_reach():
     pose[-1, 0, 0] = -0.3  # reach: ball 0.1 + box half-diagonal 0.18 + 2 cm
     assert mass_box.may_act(scene, pose)
     assert EFFECTS.get("linear_drag")().may_act(scene, pose[:10])  # effects that act anywhere
+
+
+def test_a_sparse_part_fitted_on_its_own_windows_holds_the_parts_already_in():
+    from voe.gap.effects.base import EffectSum
+    from voe.gap.fit import held
+
+    rr, mass = EFFECTS.get("rolling_resistance")(), EFFECTS.get("mass")(bodies=("box",))
+    eff = EffectSum((rr, mass))
+    lo, hi = held(eff, np.array([0.04, 1.0]), np.array([0.0, 0.05]), np.array([1.0, 20.0]))
+    np.testing.assert_array_equal(lo, [0.04, 0.05])
+    np.testing.assert_array_equal(hi, [0.04, 20.0])
+    case = make_case(np.random.default_rng(32), "mass")  # bench case 32: the box is 2.67x heavier
+    eps, scene = case.episodes, case.scene
+    sh = Shooter(scene, eps, 1e-3, 7)
+    pool = make_windows(eps, list(range(8)), 1.0, stride=0.5)
+    fitter = Fitter(sh, noise_floor(eps), pool[::5], make_windows(eps, [8, 9, 10, 11], 1.0), _context(scene, eps),
+                    pool=pool)
+    res = fitter.fit(eff, [np.array([0.04, 1.0])], max_nfev=5)  # no rolling resistance in the truth
+    assert res.params[0] == 0.04  # collision windows do not refit it (they moved it to 0 or 0.142 on 8586058, 1531007)
+    assert res.params[1] > 1.3  # the mass still moves towards the truth
