@@ -17,7 +17,7 @@ import pandas as pd
 
 from voe.gap.check import Checked, check_step, effect_dicts
 from voe.gap.departure import ALPHA
-from voe.gap.drift import drift_step
+from voe.gap.drift import DriftAhead, drift_step
 from voe.gap.effects import EFFECTS
 from voe.gap.recordings import Episode
 from voe.gap.stages import GapConfig, Location, Problem, Search, locate_step, prepare, search_step
@@ -59,9 +59,13 @@ class GapFinder:
         self.search_: Search = search_step(self.problem_, self.location_, self.config, self.max_effects, self.seed,
                                            self.n_jobs, note)
         note("check")
-        checked = check_step(self.problem_, self.location_, self.search_, self.config, self.seed)
-        note("drift")
-        self.checked_: Checked = drift_step(self.problem_, self.location_, self.search_, checked, self.config, self.seed)
+        # the drift test of the search's model runs on a second process while the check runs
+        # (voe.gap.drift.DriftAhead); used only if the check keeps that model
+        with DriftAhead(self.problem_, self.search_.result.model, self.config, self.seed, self.n_jobs) as ahead:
+            checked = check_step(self.problem_, self.location_, self.search_, self.config, self.seed)
+            note("drift")
+            self.checked_: Checked = drift_step(self.problem_, self.location_, self.search_, checked, self.config,
+                                                self.seed, ahead)
         return self
 
     # --- findings, read from the stage results ----------------------------------------------
