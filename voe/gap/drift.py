@@ -221,13 +221,8 @@ class DriftAhead:
     """
 
     def __init__(self, p: Problem, model: FitResult | None, config: GapConfig, seed: int, n_jobs: int) -> None:
-        self.p, self.key = p, None if model is None else _model_key(model)
-        self.ahead = None if model is None else Ahead(lambda: self._run(p, model, config, seed), n_jobs)
-
-    @staticmethod
-    def _run(p: Problem, model: FitResult, config: GapConfig, seed: int) -> tuple[list[Drift], int]:
-        n0 = p.shooter.n_rollouts
-        return drift_found(p, model, config, seed), p.shooter.n_rollouts - n0
+        self.key = None if model is None else _model_key(model)
+        self.ahead = None if model is None else Ahead(lambda: drift_found(p, model, config, seed), n_jobs, (p.shooter,))
 
     def found(self, model: FitResult) -> list[Drift] | None:
         """The drifting parts of ``model`` if it is the model started ahead, else None."""
@@ -236,11 +231,7 @@ class DriftAhead:
         if _model_key(model) != self.key:
             self.ahead.cancel()
             return None
-        forked = self.ahead.forked
-        found, n_roll = self.ahead.result()
-        if forked:  # simulated in the forked process's copy of the shooter
-            self.p.shooter.n_rollouts += n_roll
-        return found
+        return self.ahead.result()
 
     def __enter__(self) -> DriftAhead:
         return self

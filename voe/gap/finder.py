@@ -9,7 +9,7 @@ returns a frozen result; the ``*_`` attributes are read from those results.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import asdict
+from dataclasses import asdict, replace
 from pathlib import Path
 
 import numpy as np
@@ -19,8 +19,9 @@ from voe.gap.check import Checked, check_step, effect_dicts
 from voe.gap.departure import ALPHA
 from voe.gap.drift import DriftAhead, drift_step
 from voe.gap.effects import EFFECTS
+from voe.gap.parallel import Ahead
 from voe.gap.recordings import Episode
-from voe.gap.stages import GapConfig, Location, Problem, Search, locate_step, prepare, search_step
+from voe.gap.stages import GapConfig, Location, Problem, Search, locate_parts, prepare, search_step
 from voe.gap.verify import explain
 from voe.sim.scenefile import SceneSpec
 
@@ -55,9 +56,13 @@ class GapFinder:
         rng = np.random.default_rng(self.seed)
         self.problem_: Problem = prepare(scene, recordings, self.effects, self.config)
         note("locate")
-        self.location_: Location = locate_step(self.problem_, self.config, rng)
-        self.search_: Search = search_step(self.problem_, self.location_, self.config, self.max_effects, self.seed,
-                                           self.n_jobs, note)
+        loc, departure = locate_parts(self.problem_, self.config, rng)
+        # the departure test, which only the verdict reads, runs on a second process during the
+        # search (voe.gap.parallel.Ahead; rng is not used after it)
+        with Ahead(departure, self.n_jobs, (self.problem_.shooter,)) as dep:
+            self.search_: Search = search_step(self.problem_, loc, self.config, self.max_effects, self.seed,
+                                               self.n_jobs, note)
+            self.location_: Location = replace(loc, departure_p=dep.result())
         note("check")
         # the drift test of the search's model runs on a second process while the check runs
         # (voe.gap.drift.DriftAhead); used only if the check keeps that model

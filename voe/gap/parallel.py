@@ -40,20 +40,28 @@ class Ahead(Generic[R]):
     Args:
         fn: deterministic, no arguments; its result is pickled back (keep it small).
         n_jobs: processes the caller may use; ahead only if more than one.
+        counted: objects with an ``n_rollouts`` count (``voe.gap.shooting.Shooter``) that ``fn``
+            may raise; what it adds in the forked process is added to them here, as if ``fn`` had
+            run in this process (the bench reports the count).
     """
 
-    def __init__(self, fn: Callable[[], R], n_jobs: int) -> None:
-        self.fn = fn
+    def __init__(self, fn: Callable[[], R], n_jobs: int, counted: tuple = ()) -> None:
+        self.fn, self.counted = fn, counted
         self._pool: ProcessPoolExecutor | None = None
         self._future: Future | None = None
         if n_jobs > 1 and "fork" in mp.get_all_start_methods():
             token = id(self)
-            _PENDING[token] = fn  # before the fork, so the process has it
+            _PENDING[token] = self._counting  # before the fork, so the process has it
             self._token = token
             self._pool = ProcessPoolExecutor(max_workers=1, mp_context=mp.get_context("fork"),
                                              initializer=_release_signals)
             with _signals_held():  # submit forks the process
                 self._future = self._pool.submit(_call, token)
+
+    def _counting(self) -> tuple[R, list[int]]:
+        before = [c.n_rollouts for c in self.counted]
+        out = self.fn()
+        return out, [c.n_rollouts - b for c, b in zip(self.counted, before, strict=True)]
 
     @property
     def forked(self) -> bool:
@@ -65,9 +73,12 @@ class Ahead(Generic[R]):
         if self._future is None:
             return self.fn()
         try:
-            return self._future.result()
+            out, added = self._future.result()
         finally:
             self.close()
+        for c, n in zip(self.counted, added, strict=True):
+            c.n_rollouts += n
+        return out
 
     def cancel(self) -> None:
         """The result is not needed: stop the forked process now instead of waiting for it."""
