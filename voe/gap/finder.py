@@ -50,11 +50,18 @@ class GapFinder:
         self.n_jobs = n_jobs
 
     def fit(self, scene: str | Path | SceneSpec, recordings: str | Path | pd.DataFrame | list[Episode],
-            progress: Callable[[str], None] | None = None) -> GapFinder:
-        """Run the whole diagnosis. Returns self; results are in the ``*_`` attributes."""
+            progress: Callable[[str], None] | None = None, total: Callable[[int], None] | None = None) -> GapFinder:
+        """Run the whole diagnosis. Returns self; results are in the ``*_`` attributes.
+
+        ``progress`` is called once per step; ``total``, if given, once with the most steps
+        there can be (known once the candidates are), so that a progress bar can show an ETA.
+        """
         note = progress or (lambda s: None)
         rng = np.random.default_rng(self.seed)
         self.problem_: Problem = prepare(scene, recordings, self.effects, self.config)
+        if total is not None:  # locate, check, drift, and each round's candidates on the data and the null
+            n = len(self.problem_.candidates)
+            total(3 + 2 * sum(n - r for r in range(min(self.max_effects, n))))
         note("locate")
         loc, departure = locate_parts(self.problem_, self.config, rng)
         # the departure test, which only the verdict reads, runs on a second process during the
