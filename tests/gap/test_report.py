@@ -25,11 +25,13 @@ def _finder(groups, ties):
 def test_a_group_decided_on_windows_is_not_called_indistinguishable():
     md = markdown(_finder([["angular_damping", "linear_drag"]], [TieBreak(18)]), [])
     assert "Indistinguishable" not in md
-    assert "angular_damping chosen on the 18 selection windows" in md and "not ruled out there: linear_drag" in md
+    assert "angular_damping chosen on the 18 selection windows" in md and "linear_drag fit those windows within 10 %" in md
+    md = markdown(_finder([["angular_damping", "linear_drag"]], [TieBreak(3, ("linear_drag",))]), [])
+    assert "Indistinguishable" not in md and "too few windows to rule out linear_drag" in md
     md = markdown(_finder([["angular_damping", "linear_drag"]], [None]), [])
     assert "Indistinguishable on these data" in md and "angular_damping, linear_drag" in md
     md = markdown(_finder([["angular_damping"]], [None]), [])
-    assert "Indistinguishable" not in md and "not ruled out" not in md
+    assert "Indistinguishable" not in md and "chosen on" not in md
 
 
 def test_no_figures_still_writes_gap_md_and_the_progress_has_a_total(flight_files, tmp_path):

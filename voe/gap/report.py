@@ -43,7 +43,7 @@ def _test_episode(finder) -> tuple[int, np.ndarray | None]:
     """Index of the first test episode and its parameters (its fold's in cross-validation)."""
     split, m = finder.problem_.split, finder.checked_.model
     if split.cross_validated:
-        return split.folds[0][1][0], (m.fold_params[0] if m is not None else None)
+        return split.folds[0][2][0], (m.fold_params[0] if m is not None else None)
     return split.test[0], (m.params if m is not None else None)
 
 
@@ -152,8 +152,13 @@ def _group_lines(groups: list[list[str]], ties: list) -> list[str]:
         if tie is None:
             out.append(f"\nIndistinguishable on these data (predictions differ in no selection window): {', '.join(g)}.")
         else:
-            out.append(f"\n{g[0]} chosen on the {tie.n_differ} selection windows where the group's predictions "
-                       f"differ; not ruled out there: {', '.join(g[1:])}.")
+            close = [k for k in g[1:] if k not in tie.unproven]
+            text = f"\n{g[0]} chosen on the {tie.n_differ} selection windows where the group's predictions differ"
+            if close:
+                text += f"; {', '.join(close)} fit those windows within 10 % of it"
+            if tie.unproven:
+                text += f"; too few windows to rule out {', '.join(tie.unproven)} (one-sided sign test)"
+            out.append(text + ".")
     return out
 
 

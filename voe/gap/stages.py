@@ -186,7 +186,7 @@ def _folded(p: Problem, shooter: Shooter, episodes: list[Episode], bad: dict[int
     """
     rng = np.random.default_rng(seed)
     w = config.fit_window
-    folds = p.split.folds or ((p.split.fit, p.split.select),)
+    folds = p.split.fit_select
     out = []
     for fit_ids, sel_ids in folds:
         train = _subsample(make_windows(episodes, list(fit_ids), w, bad_start=bad), config.fit_budget, w, rng)
