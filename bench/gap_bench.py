@@ -28,7 +28,7 @@ def main() -> None:
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--clean", type=int, default=None, help="extra clean cases (default: up to 20 clean in all)")
     ap.add_argument("--truths", default=",".join(TRUTHS), help="comma-separated truths to cycle through")
-    ap.add_argument("--episodes", type=int, default=12, help="episodes per case (the finder holds out a third)")
+    ap.add_argument("--episodes", type=int, default=12, help="episodes per case (the finder splits them half fitting, a third selection, a sixth test)")
     ap.add_argument("--duration", type=float, default=3.0, help="seconds per episode")
     ap.add_argument("--compound", type=int, default=0, help="cases cycling through the compound truths")
     ap.add_argument("--outside", type=int, default=0, help="cases cycling through the out-of-library truths")

@@ -21,7 +21,13 @@ LEARNED = [k for k in MODELS.ids() if MODELS.meta(k).get("learned")]
 
 
 def test_every_learned_architecture_is_covered():
-    assert {"mlp", "interaction", "pixel"} <= {k.split("-v")[0] for k in LEARNED}
+    """Every registered learned architecture gets random-network controls (a new one without them
+    would be judged without its untrained baseline), and every control names a registered one."""
+    from voe.controls.builtin import LEARNED_ARCHS
+
+    families = {k.split("-v")[0] for k in LEARNED}
+    assert families <= set(LEARNED_ARCHS), f"no random-network controls for {sorted(families - set(LEARNED_ARCHS))}"
+    assert set(LEARNED_ARCHS) <= families, f"random-network controls for unregistered {set(LEARNED_ARCHS) - families}"
 
 
 @pytest.mark.parametrize("arch", LEARNED)

@@ -54,6 +54,10 @@ def test_cli_diagnose_default_form_and_bench_help(flight_files, tmp_path):
     assert data["verdict"] in ("consistent", "mismatch")
     assert set(data) >= {"verdict", "located", "effects", "fit", "explanation", "provenance", "episodes", "dropped"}
     assert data["episodes"]["scheme"] == "cross-validation" and len(data["episodes"]["folds"]) == 3  # 3 episodes
+    assert all(not set(f["select"]) & set(f["test"]) for f in data["episodes"]["folds"])  # no reuse within a fold
+    assert "on each cross-validation fold's test episode (one that neither fitted nor selected" in data["explanation"] \
+        or data["verdict"] != "mismatch"
+    assert data["fit"]["on"].startswith("each cross-validation fold's test episode")
     assert len(data["provenance"]["inputs"]["scene"]["sha256"]) == 64
     assert (out / "gap.md").exists() and (out / "trajectories.png").exists() and (out / "residual.png").exists()
     r = CliRunner().invoke(app, ["gap", "bench", "--help"])

@@ -33,3 +33,7 @@ def test_real_pendulum_damping_found():
     assert d["episodes"]["fit"] == [0, 1, 2] and d["episodes"]["select"] == [3, 4] and d["episodes"]["test"] == [5]
     assert f.fit_["after"] < 0.7 * f.fit_["before"]
     assert f.located_ and all(x["context"] == "swinging" for x in f.located_)
+    # the issue: a group's other members stay candidates in later rounds (only the winner leaves)
+    r1, r2 = f.rounds_[0], f.rounds_[1]
+    assert r1.winner == "angular_damping" and "linear_drag" in r1.group
+    assert set(r1.group) - {r1.winner} <= set(r2.gains) and r1.winner not in r2.gains

@@ -30,9 +30,14 @@ def test_three_way_split_and_cross_validation_fallback():
     s = split_episodes(6)
     assert (s.fit, s.select, s.test) == ((0, 1, 2), (3, 4), (5,))
     s = split_episodes(3)
-    assert s.cross_validated and s.folds[1] == ((0, 2), (1,)) and "cross-validation" in s.note
-    with pytest.raises(ValueError, match="two episodes"):
-        split_episodes(1)
+    assert s.cross_validated and "cross-validation" in s.note and s.folds[1] == ((0,), (2,), (1,))
+    for fit, sel, test in s.folds:  # the roles rotate: no episode selects and tests in the same fold
+        assert sorted(fit + sel + test) == [0, 1, 2] and not set(sel) & set(test)
+    assert sorted(t for _, _, (t,) in s.folds) == sorted(x for _, (x,), _ in s.folds) == [0, 1, 2]
+    assert s.fit_select == (((2,), (1,)), ((0,), (2,)), ((1,), (0,)))
+    for n in (1, 2):
+        with pytest.raises(ValueError, match="at least 3 episodes"):
+            split_episodes(n)
 
 
 def test_noise_model_tells_white_from_coloured():

@@ -9,6 +9,7 @@ was sized to be interrupted) to completion.
 from __future__ import annotations
 
 import json
+import shutil
 import signal
 import subprocess
 import sys
@@ -22,10 +23,35 @@ from voe.scoring.runs import load_run
 from ..gap.conftest import BALL, flight_episodes, to_table
 from .cli import env, run_voe
 
+SWALLOWED = "arrived where it could not stop the command"
+
 
 def interrupt(args: list[object], tmp_path: Path, sig: int, after: str, delay: float = 0.5,
-              timeout: float = 120, **extra: str) -> subprocess.CompletedProcess:
-    """Run the CLI, send ``sig`` ``delay`` s after ``after`` appears in its output, wait for it to end."""
+              timeout: float = 120, outputs: tuple[Path, ...] = (), **extra: str) -> subprocess.CompletedProcess:
+    """Run the CLI, send ``sig`` ``delay`` s after ``after`` appears in its output, wait for it to end.
+
+    A signal can land where Python swallows what its handler raises (C code that clears errors
+    after calling back into Python); the command then runs to its end and says so in one line,
+    with exit 130 and complete outputs (``voe.cli.main._swallowed``). That documented fallback is
+    accepted only for commands whose ``outputs`` are given: each must then be whole (a manifest),
+    is removed, and the command is interrupted again. At least one of three attempts must really
+    stop it, so a command that can never be interrupted still fails here.
+    """
+    for attempt in range(3):
+        run = _interrupt_once(args, tmp_path, sig, after, delay, timeout, **extra)
+        if SWALLOWED not in run.stdout or not outputs:
+            break
+        print(f"attempt {attempt + 1}: the signal was swallowed and the command ran to its end")
+        for out in outputs:
+            assert (out / "manifest.json").exists(), f"a command that ran to its end left {out} incomplete"
+            shutil.rmtree(out)
+    assert "voe: interrupted" in run.stdout, run.stdout
+    return run
+
+
+def _interrupt_once(args: list[object], tmp_path: Path, sig: int, after: str, delay: float, timeout: float,
+                    **extra: str) -> subprocess.CompletedProcess:
+    """One run of :func:`interrupt`: started, signalled, ended non-zero without a traceback."""
     log = tmp_path / f"log-{time.monotonic_ns()}.txt"
     with open(log, "w") as fh:
         # as from a terminal: SIGINT is not ignored (background jobs of a script inherit SIG_IGN)
@@ -46,7 +72,6 @@ def interrupt(args: list[object], tmp_path: Path, sig: int, after: str, delay: f
     print(f"interrupted after {time.monotonic() - t0:.1f} s, ended {time.monotonic() - t1:.1f} s after the signal")
     assert code != 0, out
     assert "Traceback" not in out, out
-    assert "voe: interrupted" in out, out
     return subprocess.CompletedProcess(args, code, out, "")
 
 
@@ -62,7 +87,7 @@ def assert_nothing_left(out: Path) -> None:
 def test_probes_generate(tmp_path):
     out = tmp_path / "p"
     interrupt(["probes", "generate", "--out", out, "--per-concept", "30", "--size", "32"], tmp_path,
-              signal.SIGINT, "matched sets")
+              signal.SIGINT, "matched sets", outputs=(out,))
     assert_nothing_left(out)
     proc = run_voe("probes", "generate", "--out", out, "--per-concept", "1", "--size", "32")
     assert proc.returncode == 0, proc.stderr
@@ -72,7 +97,7 @@ def test_probes_generate(tmp_path):
 def test_world_generate(tmp_path):
     out = tmp_path / "w"
     interrupt(["world", "generate", "--out", out, "--n", "2000", "--size", "32"], tmp_path,
-              signal.SIGTERM, "training clips")
+              signal.SIGTERM, "training clips", outputs=(out,))
     assert_nothing_left(out)
     proc = run_voe("world", "generate", "--out", out, "--n", "4", "--size", "32")
     assert proc.returncode == 0 and (out / "manifest.json").exists(), proc.stderr

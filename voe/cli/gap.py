@@ -35,7 +35,7 @@ def diagnose_cmd(
     effects: str = typer.Option("", "--effects", help="comma-separated effect names (default: all)"),
     max_effects: int = typer.Option(3, "--max-effects"),
     seed: int = typer.Option(0, "--seed"),
-    no_figures: bool = typer.Option(False, "--no-figures", help="skip gap.md figures"),
+    no_figures: bool = typer.Option(False, "--no-figures", help="write gap.md without its figures"),
     jobs: int = typer.Option(2, "--jobs", min=1, help="processes fitting candidates in parallel (same result)"),
 ) -> None:
     """Locate the mismatch, name and fit the missing effects, verify on held-out episodes."""
@@ -49,8 +49,12 @@ def diagnose_cmd(
             bar.set_postfix_str(msg)
             bar.update(1)
 
+        def total(n: int) -> None:  # the most steps there can be: the search may stop early
+            bar.total = n
+            bar.refresh()
+
         finder = diagnose(scene, recordings, out, names, max_effects, seed, figures=not no_figures, progress=progress,
-                          n_jobs=jobs)
+                          n_jobs=jobs, total=total)
     typer.echo(f"verdict: {finder.verdict_}")
     typer.echo(finder.explanation_)
     typer.echo(f"wrote {out / 'gap.json'}")

@@ -142,8 +142,9 @@ def verify_on_test(p: Problem, model: FitResult | None, config: GapConfig, z_thr
     effect = model.effect if model is not None else None
     if p.split.cross_validated:
         pairs = [(w, None if model is None else model.fold_params[k])
-                 for k, (_, sel) in enumerate(p.split.folds) for w in fit_windows(p, sel, config)]
-        note = "cross-validated over episodes (no untouched test split)"
+                 for k, (_, _, test) in enumerate(p.split.folds) for w in fit_windows(p, test, config)]
+        note = ("each cross-validation fold's test episode (one that neither fitted nor selected in that fold; "
+                "no untouched test split)")
     else:
         pairs = [(w, None if model is None else model.params) for w in fit_windows(p, p.split.test, config)]
         note = f"test episodes {[p.episodes[i].id for i in p.split.test]}"

@@ -43,7 +43,7 @@ def _test_episode(finder) -> tuple[int, np.ndarray | None]:
     """Index of the first test episode and its parameters (its fold's in cross-validation)."""
     split, m = finder.problem_.split, finder.checked_.model
     if split.cross_validated:
-        return split.folds[0][1][0], (m.fold_params[0] if m is not None else None)
+        return split.folds[0][2][0], (m.fold_params[0] if m is not None else None)
     return split.test[0], (m.params if m is not None else None)
 
 
@@ -121,9 +121,7 @@ def markdown(finder, figs: list[str]) -> str:
             ps = ", ".join(f"{k} = {v:.4g} ({e['interval95'][k][0]:.3g} to {e['interval95'][k][1]:.3g}) {e['units'][k]}"
                            for k, v in e["params"].items())
             lines.append(f"| {e['name']} | {ps} | {e['acts']} | {', '.join(e['bodies'])} |")
-        for g in finder.groups_:
-            if len(g) > 1:
-                lines.append(f"\nIndistinguishable on these data: {', '.join(g)}.")
+        lines += _group_lines(finder.groups_, [r.tie for r in finder._kept_rounds()])
     else:
         lines.append("None accepted.")
     for d in finder.checked_.dropped:
@@ -138,13 +136,35 @@ def markdown(finder, figs: list[str]) -> str:
             lines.append(f"\n... and {len(finder.located_) - 40} more in gap.json.")
     else:
         lines.append("No stretch exceeds the null-calibrated threshold.")
-    lines += ["", "## Figures", ""] + [f"![{n}]({n})" for n in figs] + [""]
-    return "\n".join(lines)
+    if figs:
+        lines += ["", "## Figures", ""] + [f"![{n}]({n})" for n in figs]
+    return "\n".join(lines + [""])
 
 
-def write_report(finder, out: Path) -> None:
-    """Render figures and write ``gap.md`` into ``out``."""
+def _group_lines(groups: list[list[str]], ties: list) -> list[str]:
+    """One line per tied group: "indistinguishable" only when no selection window told its members
+    apart (``tie`` None); otherwise on how many windows the named member was chosen, and which
+    members those windows could not rule out (``voe.gap.search.TieBreak``)."""
+    out = []
+    for g, tie in zip(groups, ties, strict=True):
+        if len(g) < 2:
+            continue
+        if tie is None:
+            out.append(f"\nIndistinguishable on these data (predictions differ in no selection window): {', '.join(g)}.")
+        else:
+            close = [k for k in g[1:] if k not in tie.unproven]
+            text = f"\n{g[0]} chosen on the {tie.n_differ} selection windows where the group's predictions differ"
+            if close:
+                text += f"; {', '.join(close)} fit those windows within 10 % of it"
+            if tie.unproven:
+                text += f"; too few windows to rule out {', '.join(tie.unproven)} (one-sided sign test)"
+            out.append(text + ".")
+    return out
+
+
+def write_report(finder, out: Path, figures_too: bool = True) -> None:
+    """Write ``gap.md`` into ``out``, with its figures unless ``figures_too`` is False."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    figs = figures(finder, out)
+    figs = figures(finder, out) if figures_too else []
     atomic_write(out / "gap.md", markdown(finder, figs))

@@ -14,8 +14,9 @@ from voe.gap.output import provenance, write_json
 
 def diagnose(scene: str | Path, recordings: str | Path, out: str | Path, effects: list[str] | None = None,
              max_effects: int = 3, seed: int = 0, config: GapConfig | None = None, figures: bool = True,
-             progress: Callable[[str], None] | None = None, n_jobs: int = 1) -> GapFinder:
-    """Run the finder and write ``gap.json`` (and ``gap.md`` with figures) into ``out``.
+             progress: Callable[[str], None] | None = None, n_jobs: int = 1,
+             total: Callable[[int], None] | None = None) -> GapFinder:
+    """Run the finder and write ``gap.json`` and ``gap.md`` (with its figures unless ``figures`` is False) into ``out``.
 
     The directory is written whole (temporary sibling, then rename), so an interrupted run
     leaves no ``gap.json`` without its figures. Inputs are named by a path relative to ``out``.
@@ -26,7 +27,7 @@ def diagnose(scene: str | Path, recordings: str | Path, out: str | Path, effects
 
     check_output(out, "dir", replaces=("gap.json",))  # never replace a folder that is not ours
     finder = GapFinder(effects=effects, max_effects=max_effects, seed=seed, config=config, n_jobs=n_jobs)
-    finder.fit(scene, recordings, progress=progress)
+    finder.fit(scene, recordings, progress=progress, total=total)
     out = Path(out)
     payload = finder.to_dict()
     inputs = {"scene": scene, "recordings": recordings}
@@ -35,8 +36,7 @@ def diagnose(scene: str | Path, recordings: str | Path, out: str | Path, effects
         payload["provenance"]["inputs"][key]["path"] = relative_ref(path, out)
     with atomic_dir(out, overwrite=True) as tmp:
         write_json(tmp / "gap.json", payload)
-        if figures:
-            from voe.gap.report import write_report
+        from voe.gap.report import write_report
 
-            write_report(finder, tmp)
+        write_report(finder, tmp, figures_too=figures)  # gap.md always; figures only if asked
     return finder

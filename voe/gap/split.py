@@ -6,9 +6,13 @@ held-out improvement. So episodes are split chronologically into fitting (the fi
 selection (the next third) and test (the last sixth, at least one episode), and everything
 estimated from data (the fit context, starting points, scales) comes from the fitting episodes
 only. With fewer than ``MIN_THREE_WAY`` episodes there is not enough for three roles, and
-reusing episodes would be dishonest: the finder then cross-validates over episodes (each
-episode in turn selects, the others fit) and says so; the test figure is then the
-cross-validated one, and there is no untouched test split.
+reusing episodes would be dishonest: the finder then cross-validates over episodes with the
+three roles rotating (in fold i episode i tests, episode i + 1 selects, the others fit), so no
+episode both selects and tests in the same fold, and says so. The search chooses and accepts
+one model on all folds' selection windows together, so every episode still helps choose the
+effect (as another fold's selection episode); what a fold reports comes from an episode that
+neither fitted nor selected in that fold, and there is no untouched test split. Fewer than three
+episodes cannot fill the three roles and are refused.
 """
 
 from __future__ import annotations
@@ -18,6 +22,7 @@ from dataclasses import dataclass
 from voe.gap.recordings import Episode
 
 MIN_THREE_WAY = 4
+MIN_EPISODES = 3  # one per role: fitting, selection, test
 
 
 @dataclass(frozen=True)
@@ -26,20 +31,25 @@ class Split:
 
     Attributes:
         fit, select, test: roles for a three-way split; in cross-validation ``fit`` lists every
-            episode and ``select``/``test`` are empty (the folds say who selects).
-        folds: cross-validation folds as (fitting indices, selecting indices); () for three-way.
+            episode (each fits in some fold) and ``select``/``test`` are empty (the folds say).
+        folds: cross-validation folds as (fitting, selecting, testing) indices; () for three-way.
         note: one sentence for gap.json and gap.md saying which scheme was used and why.
     """
 
     fit: tuple[int, ...]
     select: tuple[int, ...]
     test: tuple[int, ...]
-    folds: tuple[tuple[tuple[int, ...], tuple[int, ...]], ...] = ()
+    folds: tuple[tuple[tuple[int, ...], tuple[int, ...], tuple[int, ...]], ...] = ()
     note: str = ""
 
     @property
     def cross_validated(self) -> bool:
         return bool(self.folds)
+
+    @property
+    def fit_select(self) -> tuple[tuple[tuple[int, ...], tuple[int, ...]], ...]:
+        """(fitting, selecting) indices per fold; the three-way split is one fold."""
+        return tuple((f, s) for f, s, _ in self.folds) or ((self.fit, self.select),)
 
     def roles(self, episodes: list[Episode]) -> dict:
         """Episode ids per role, for gap.json."""
@@ -48,12 +58,13 @@ class Split:
                "fit": [ids[i] for i in self.fit], "select": [ids[i] for i in self.select],
                "test": [ids[i] for i in self.test]}
         if self.folds:
-            out["folds"] = [{"fit": [ids[i] for i in f], "select_and_test": [ids[i] for i in s]} for f, s in self.folds]
+            out["folds"] = [{"fit": [ids[i] for i in f], "select": [ids[i] for i in s], "test": [ids[i] for i in t]}
+                            for f, s, t in self.folds]
         return out
 
 
 def split_episodes(n: int) -> Split:
-    """Chronological three-way split of ``n`` episodes, or leave-one-episode-out folds if too few."""
+    """Chronological three-way split of ``n`` episodes, or rotating cross-validation folds if too few."""
     if n >= MIN_THREE_WAY:
         n_test = max(1, round(n / 6))
         n_sel = max(1, round(n / 3))
@@ -61,9 +72,12 @@ def split_episodes(n: int) -> Split:
         idx = list(range(n))
         return Split(tuple(idx[:n_fit]), tuple(idx[n_fit:n_fit + n_sel]), tuple(idx[n_fit + n_sel:]),
                      note=f"three-way split: {n_fit} fitting, {n_sel} selection, {n_test} test episode(s)")
-    if n < 2:
-        raise ValueError("at least two episodes are needed (split one recording into episodes)")
-    folds = tuple((tuple(j for j in range(n) if j != i), (i,)) for i in range(n))
+    if n < MIN_EPISODES:
+        raise ValueError(f"at least {MIN_EPISODES} episodes are needed, one each to fit, select and test "
+                         f"(got {n}; split the recording into episodes)")
+    folds = tuple((tuple(j for j in range(n) if j not in (i, (i + 1) % n)), ((i + 1) % n,), (i,)) for i in range(n))
     return Split(tuple(range(n)), (), (), folds,
                  note=f"only {n} episodes (a three-way split needs {MIN_THREE_WAY}): cross-validation over "
-                      f"episodes, each one in turn selecting while the others fit; no untouched test split")
+                      f"episodes with the roles rotating, in each fold one episode testing, the next selecting and "
+                      f"the rest fitting, so none selects and tests in the same fold; the effect is chosen on all "
+                      f"folds' selection episodes together, and there is no untouched test split")
