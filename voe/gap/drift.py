@@ -43,8 +43,10 @@ from scipy.optimize import least_squares
 
 from voe.gap.check import Checked, model_intervals, verify_on_test
 from voe.gap.effects.base import Effect, EffectSum, FitContext
+from voe.gap.fit import FitResult, effect_key
 from voe.gap.folds import as_sum, without
 from voe.gap.nuisance import profiled_terms
+from voe.gap.parallel import Ahead
 from voe.gap.prefit import FlightSamples, _missing
 from voe.gap.shooting import Shooter, Window, make_windows
 from voe.gap.stages import GapConfig, Location, Problem, Search, context_for
@@ -189,22 +191,79 @@ def drifts(shooter: Shooter, sigma: np.ndarray, windows: list[Window], effect: E
     return out
 
 
-def drift_step(p: Problem, loc: Location, s: Search, c: Checked, config: GapConfig, seed: int) -> Checked:
-    """``c`` without the parts that drift (the rest refitted, bounded and tested again)."""
-    model, keys, dropped = c.model, list(c.keys), list(c.dropped)
-    if model is None:
-        return c
+def drift_found(p: Problem, model: FitResult, config: GapConfig, seed: int) -> list[Drift]:
+    """The parts of ``model`` that drift: its parameters on the windows of one time slot against
+    the others (``drifts``), and the parts that push bodies in flight when the flight residual
+    changes in time (``flight_drift``)."""
     ctx = context_for(p.scene, [p.episodes[i] for i in p.split.fit])
     length = config.fit_window / 2
     stride = length / 2
     windows = make_windows(p.episodes, list(p.split.fit), length, stride=stride, bad_start=p.bad)
-    lo, hi = c.lower, c.upper
     found = drifts(p.shooter, p.sigma, windows, model.effect, model.params, ctx, config.fit.f_scale, seed, stride)
     fl = flight_drift(ctx.flight, model.effect, model.params, p.scene, ctx)
     if fl is not None:  # the parts that push bodies in flight took up a force that changes in time
         done = {d.part for d in found}
         moving = flight_movers(ctx.flight, model.effect, model.params, p.scene, ctx)
         found += [replace(fl, part=k) for k in moving if k not in done]
+    return found
+
+
+class DriftAhead:
+    """``drift_found`` of the search's model, started in a forked process while the check runs
+    (``voe.gap.parallel.Ahead``; with ``n_jobs`` 1 nothing runs ahead).
+
+    Why: the drift test needs only the model, and the check keeps the search's model unless it
+    drops a part; the two used to run one after the other in the main process while the fitting
+    workers sat idle (about 1 s each of ``bench/gap_speed.py``). ``found`` gives the result only
+    for the same effect and parameters to the bit, else None (the caller computes it again), so
+    the answer does not depend on ``n_jobs``; the rollouts the forked process simulated are added
+    to the data shooter's count, as if simulated here.
+    """
+
+    def __init__(self, p: Problem, model: FitResult | None, config: GapConfig, seed: int, n_jobs: int) -> None:
+        self.key = None if model is None else _model_key(model)
+        self.ahead = None if model is None else Ahead(lambda: drift_found(p, model, config, seed), n_jobs, (p.shooter,))
+
+    def found(self, model: FitResult) -> list[Drift] | None:
+        """The drifting parts of ``model`` if it is the model started ahead, else None."""
+        if self.ahead is None:
+            return None
+        if _model_key(model) != self.key:
+            self.ahead.cancel()
+            return None
+        return self.ahead.result()
+
+    def __enter__(self) -> DriftAhead:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        if self.ahead is not None:
+            self.ahead.__exit__(*exc)
+
+
+def _model_key(model: FitResult) -> tuple:
+    """What ``drift_found`` reads of a model: its effect and its parameters, to the bit."""
+    return effect_key(model.effect), model.params.tobytes()
+
+
+def drift_step(p: Problem, loc: Location, s: Search, c: Checked, config: GapConfig, seed: int,
+               ahead: DriftAhead | None = None) -> Checked:
+    """``c`` without the parts that drift (the rest refitted, bounded and tested again).
+
+    Args:
+        ahead: ``drift_found`` of the search's model, started while the check ran; used only if
+            the check kept that model.
+    """
+    model, keys, dropped = c.model, list(c.keys), list(c.dropped)
+    if model is None:
+        if ahead is not None and ahead.ahead is not None:
+            ahead.ahead.cancel()
+        return c
+    ctx = context_for(p.scene, [p.episodes[i] for i in p.split.fit])
+    lo, hi = c.lower, c.upper
+    found = ahead.found(model) if ahead is not None else None
+    if found is None:
+        found = drift_found(p, model, config, seed)
     if not found:
         return c
     for d in sorted(found, key=lambda d: -d.part):  # from the last part, so indices stay valid

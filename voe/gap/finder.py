@@ -9,7 +9,7 @@ returns a frozen result; the ``*_`` attributes are read from those results.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import asdict
+from dataclasses import asdict, replace
 from pathlib import Path
 
 import numpy as np
@@ -17,10 +17,11 @@ import pandas as pd
 
 from voe.gap.check import Checked, check_step, effect_dicts
 from voe.gap.departure import ALPHA
-from voe.gap.drift import drift_step
+from voe.gap.drift import DriftAhead, drift_step
 from voe.gap.effects import EFFECTS
+from voe.gap.parallel import Ahead
 from voe.gap.recordings import Episode
-from voe.gap.stages import GapConfig, Location, Problem, Search, locate_step, prepare, search_step
+from voe.gap.stages import GapConfig, Location, Problem, Search, locate_parts, prepare, search_step
 from voe.gap.verify import explain
 from voe.sim.scenefile import SceneSpec
 
@@ -62,13 +63,21 @@ class GapFinder:
             n = len(self.problem_.candidates)
             total(3 + 2 * sum(n - r for r in range(min(self.max_effects, n))))
         note("locate")
-        self.location_: Location = locate_step(self.problem_, self.config, rng)
-        self.search_: Search = search_step(self.problem_, self.location_, self.config, self.max_effects, self.seed,
-                                           self.n_jobs, note)
+        loc, departure = locate_parts(self.problem_, self.config, rng)
+        # the departure test, which only the verdict reads, runs on a second process during the
+        # search (voe.gap.parallel.Ahead; rng is not used after it)
+        with Ahead(departure, self.n_jobs, (self.problem_.shooter,)) as dep:
+            self.search_: Search = search_step(self.problem_, loc, self.config, self.max_effects, self.seed,
+                                               self.n_jobs, note)
+            self.location_: Location = replace(loc, departure_p=dep.result())
         note("check")
-        checked = check_step(self.problem_, self.location_, self.search_, self.config, self.seed)
-        note("drift")
-        self.checked_: Checked = drift_step(self.problem_, self.location_, self.search_, checked, self.config, self.seed)
+        # the drift test of the search's model runs on a second process while the check runs
+        # (voe.gap.drift.DriftAhead); used only if the check keeps that model
+        with DriftAhead(self.problem_, self.search_.result.model, self.config, self.seed, self.n_jobs) as ahead:
+            checked = check_step(self.problem_, self.location_, self.search_, self.config, self.seed)
+            note("drift")
+            self.checked_: Checked = drift_step(self.problem_, self.location_, self.search_, checked, self.config,
+                                                self.seed, ahead)
         return self
 
     # --- findings, read from the stage results ----------------------------------------------

@@ -133,7 +133,7 @@ class Fitter:
         every training window, and the optimiser sees the same values, so it takes the same path.
         The memory lasts one ``fit``.
         """
-        key = (_effect_key(effect), None if params is None else np.asarray(params, dtype=float).tobytes())
+        key = (effect_key(effect), None if params is None else np.asarray(params, dtype=float).tobytes())
         if key in self._memo:
             return self._memo[key]
         z = self.standardized(effect, params)
@@ -236,7 +236,7 @@ def held(effect: Effect, x0: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> tupl
     return lo, hi
 
 
-def _effect_key(effect: Effect | None) -> tuple:
+def effect_key(effect: Effect | None) -> tuple:
     """What decides an effect's physics: its parts' classes and bodies (not the object's identity,
     which Python may reuse after an effect is freed)."""
     return () if effect is None else tuple((type(e).__module__, type(e).__qualname__, e.bodies) for e in effect.parts)

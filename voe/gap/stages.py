@@ -10,7 +10,7 @@ verdict.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
@@ -109,6 +109,21 @@ def prepare(scene: str | Path | SceneSpec, recordings: str | Path | pd.DataFrame
 
 def locate_step(p: Problem, config: GapConfig, rng: np.random.Generator) -> Location:
     """Window z-scores of the data against a clean replicate's; located stretches."""
+    loc, departure = locate_parts(p, config, rng)
+    return replace(loc, departure_p=departure())
+
+
+def locate_parts(p: Problem, config: GapConfig,
+                 rng: np.random.Generator) -> tuple[Location, Callable[[], float]]:
+    """``locate_step`` in two parts: the location without its departure test (``departure_p``
+    left at 1), and the call that computes the test (further clean replicates, drawn from
+    ``rng``, which must not be used between the two).
+
+    Why two: the search needs the clean replicate and the located contexts, not the departure
+    test, which only the verdict reads; the finder runs it on a second process while the search
+    fits (``voe.gap.parallel.Ahead``), where it used to keep the main process busy while the
+    fitting workers waited. The same call on the same inputs gives the same test either way.
+    """
     windows = make_windows(p.episodes, list(range(len(p.episodes))), config.locate_window, bad_start=p.bad)
     null_eps = null_like(p.scene, p.episodes, p.sigma, rng, p.substep, p.phi)
     null_shooter = Shooter(p.scene, null_eps, p.substep, p.half)
@@ -117,12 +132,15 @@ def locate_step(p: Problem, config: GapConfig, rng: np.random.Generator) -> Loca
     z_strong = float(max(config.z_min, np.max(z_null)))
     z = window_z(p.shooter, windows, p.sigma)
     located = [x.to_dict() for x in locate(p.shooter, windows, z, z_thr)]
-    dep = make_windows(p.episodes, list(range(len(p.episodes))), DEPARTURE_WINDOW, bad_start=p.bad)  # (voe.gap.departure)
-    more = more_replicates(p.scene, p.episodes, p.sigma, p.phi, p.substep, p.half, dep, rng)  # (R - 1, W')
-    short = (window_z(p.shooter, dep, p.sigma).max(axis=(1, 2)),
-             np.vstack([window_z(null_shooter, dep, p.sigma).max(axis=(1, 2))[None], more]))
-    p_dep = departure_p(z.max(axis=(1, 2)), z_null, short)
-    return Location(windows, located, z_thr, z_strong, null_eps, p_dep)
+
+    def departure() -> float:
+        dep = make_windows(p.episodes, list(range(len(p.episodes))), DEPARTURE_WINDOW, bad_start=p.bad)  # (voe.gap.departure)
+        more = more_replicates(p.scene, p.episodes, p.sigma, p.phi, p.substep, p.half, dep, rng)  # (R - 1, W')
+        short = (window_z(p.shooter, dep, p.sigma).max(axis=(1, 2)),
+                 np.vstack([window_z(null_shooter, dep, p.sigma).max(axis=(1, 2))[None], more]))
+        return departure_p(z.max(axis=(1, 2)), z_null, short)
+
+    return Location(windows, located, z_thr, z_strong, null_eps), departure
 
 
 def search_step(p: Problem, loc: Location, config: GapConfig, max_effects: int, seed: int, n_jobs: int = 1,
