@@ -9,6 +9,18 @@ against the true one, and (2) at every reappearance (a slot seen before, hidden,
 median |error| of the predicted height, the predicted sd of height and the median error of the
 predicted vertical speed. A calibrated rollout has |error| about 0.67 sd.
 
+(3) Why the spliced verdicts need more than that (session 13): the time-shifted hidden splices
+(solidity, collision, gravity) differ from their possible clips only in *when* the object comes
+back, by 2-4 frames, so the predicted position at a return must be right to about one frame of
+the object's travel (``|v| dt``, 0.1-0.3 units), and presence must switch on at the right frame.
+So it also prints the position error at returns in frames of travel, the predicted sd of x, and
+what showing the object would cost (``-log p(present)``, nats, median) 2 and 1 frames before a
+return and at it: a model that times the return has high, high, low; a hazard that only grows with
+the time hidden falls slowly, and one that did not learn when hidden objects come back stays high.
+Last, the carried look at returns (median |error| and predicted sd of width and height): shape
+constancy (unchangeableness) turns on a 35-55 % size or a shape change behind the screen, which
+a remembered look tells only while its error and sd stay well below that.
+
 Usage: ``python bench/hidden_rollout.py CKPT PROBES CONCEPT [CONCEPT ...] [--clips 64]``
 (a development probe set only).
 """
@@ -25,10 +37,11 @@ import torch
 def trace(ckpt: Path, probes: Path, concept: str, clips: int) -> str:
     """One line of the two diagnostics for ``concept`` (its ``concept_name``, e.g. ``gravity``)."""
     from voe.io.probeset import load_probe_set
+    from voe.models.checkpoint import read_checkpoint
     from voe.models.interaction import rollout_nll
     from voe.models.loading import load_model
 
-    m = load_model("interaction", None, ckpt)
+    m = load_model(read_checkpoint(ckpt)["model"], None, ckpt)  # any interaction version
     ps = load_probe_set(probes)
     idx = ps.index
     ids = list(idx.clip_id[(idx.concept_name == concept) & (idx.condition == "occluded")])[:clips]
@@ -40,7 +53,9 @@ def trace(ckpt: Path, probes: Path, concept: str, clips: int) -> str:
     with torch.no_grad():
         rollout_nll(m.net, m.prepare(b), steps)
     mean = torch.stack([s[0] for s in steps], 1).double().numpy()  # (B, T-1, K, 9): frame t+1
-    sd_y = np.exp(0.5 * torch.stack([s[1] for s in steps], 1).double().numpy()[..., 1])  # (B, T-1, K)
+    sd = np.exp(0.5 * torch.stack([s[1] for s in steps], 1).double().numpy())  # (B, T-1, K, 9)
+    sd_y, sd_x = sd[..., 1], sd[..., 0]  # (B, T-1, K)
+    show = -torch.nn.functional.logsigmoid(torch.stack([s[2] for s in steps], 1).double()).numpy()  # (B, T-1, K)
     st, pr = b.states, b.present  # (B, T, K, F), (B, T, K)
     seen_before = np.cumsum(pr, 1) > 0  # (B, T, K)
     now, nxt = pr[:, :-1], pr[:, 1:]  # (B, T-1, K)
@@ -50,13 +65,27 @@ def trace(ckpt: Path, probes: Path, concept: str, clips: int) -> str:
     d_true = (st[:, 1:, :, 4] - st[:, :-1, :, 4])[rise]
     err_y = np.abs(mean[..., 1] - st[:, 1:, :, 1])[back]
     err_vy = (mean[..., 4] - st[:, 1:, :, 4])[back]
+    err_pos = np.hypot(mean[..., 0] - st[:, 1:, :, 0], mean[..., 1] - st[:, 1:, :, 1])  # (B, T-1, K)
+    travel = np.hypot(st[:, 1:, :, 3], st[:, 1:, :, 4]) * b.dt  # (B, T-1, K): one frame of travel
+    frames = (err_pos / np.maximum(travel, 1e-3))[back]
+    # presence predicted for the return frame r and the two frames before it (slots hidden there)
+    bb, tt, kk = np.nonzero(back)  # step index tt predicts frame tt + 1 = r
+    iw, ih = b.feature_names.index("width"), b.feature_names.index("height")
+    look_w, look_h = np.abs(mean[..., 6] - st[:, 1:, :, iw])[back], np.abs(mean[..., 7] - st[:, 1:, :, ih])[back]
+    show_at = [show[bb[tt >= j], tt[tt >= j] - j, kk[tt >= j]] for j in (2, 1, 0)]  # nats if shown
 
     def med(a: np.ndarray) -> str:
         return f"{np.median(a):+.2f}" if a.size else "  n/a"
 
     return (f"{concept}: visible rising n={rise.sum()}: dvy predicted {med(d_pred)} true {med(d_true)}; "
             f"reappearances n={back.sum()}: |y err| {med(err_y)}, predicted sd(y) {med(sd_y[back])}, "
-            f"vy err {med(err_vy)}")
+            f"vy err {med(err_vy)}; |pos err| {med(err_pos[back])} = {med(frames)} frames of travel "
+            f"(within 1 frame: {np.mean(frames <= 1.0) if frames.size else float('nan'):.2f}), "
+            f"predicted sd(x) {med(sd_x[back])}; -log p(present) at r-2, r-1, r: "
+            + ", ".join(med(p) for p in show_at)
+            + f"; look at returns: |width err| {med(look_w)} "
+            f"sd {med(sd[..., 6][back])}, |height err| {med(look_h)} "
+            f"sd {med(sd[..., 7][back])}")
 
 
 def main() -> None:

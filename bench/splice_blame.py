@@ -8,7 +8,12 @@ both sit on the one or two frames where a hidden object comes back; this says wh
 prediction made them. Per set it prints the two halves, the frame (relative to the first frame
 where the impossible clip's side changes) that carries most of each, and the half split into parts
 (summed over slots and frames), then per concept each part's share of sum |d| over the sets and
-the share of sets in which that part alone has the half's sign.
+the share of sets in which that part alone has the half's sign, and how the two halves' signs
+split over the sets. On the time-shifted splices (solidity, collision, gravity) AB's object comes
+back late after A's history and BA's early after B's: a surprise that only grows with the time an
+object was hidden, whatever the physics, makes ``d_AB > 0`` and ``d_BA < 0`` on every set ("late
+dearer, early cheaper"), so the halves score 0.50 by construction and the sum's sign is set by
+the curvature of that cost. Only a model that knows *when* the object should be back gets both.
 
 Usage (a development probe set only)::
 
@@ -91,6 +96,10 @@ def main() -> None:
     share = np.abs(r).sum(0) / max(np.abs(r).sum(), 1e-12)
     alone = (np.sign(r) == np.sign(d)) & (np.abs(r) > 0.5 * np.abs(d))
     print("  share of sum |d| by part: " + ", ".join(f"{p} {s:.2f}" for p, s in zip(PARTS, share, strict=True) if s >= 0.01))
+    h = r.sum(1).reshape(-1, 2)  # (sets, 2): d_AB, d_BA
+    split = {"both right": (h[:, 0] > 0) & (h[:, 1] > 0), "late dearer, early cheaper": (h[:, 0] > 0) & (h[:, 1] < 0),
+             "late cheaper, early dearer": (h[:, 0] < 0) & (h[:, 1] > 0), "both wrong": (h[:, 0] < 0) & (h[:, 1] < 0)}
+    print(f"  signs of (d_AB, d_BA) over {len(h)} sets: " + ", ".join(f"{k} {v.mean():.2f}" for k, v in split.items()))
     print("  halves carried (> half of d, same sign) by: "
           + ", ".join(f"{p} {c:.2f}" for p, c in zip(PARTS, alone.mean(0), strict=True) if c > 0))
 
