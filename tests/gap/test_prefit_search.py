@@ -162,13 +162,19 @@ def test_half_stride_windows_overlap_and_still_skip_bad_starts():
     np.testing.assert_allclose(starts, [0, 0.6, 1.1, 1.6, 2.1])
 
 
-def test_a_sparse_mass_is_fitted_on_the_windows_where_bodies_meet():
-    case = make_case(np.random.default_rng(32), "mass")  # bench case 32: the box is 2.67x heavier
+def _mass_case():
+    """Bench case 32 (the box is 2.67x heavier): the case, its window pool and a fitter over it."""
+    case = make_case(np.random.default_rng(32), "mass")
     eps, scene = case.episodes, case.scene
-    sh = Shooter(scene, eps, 1e-3, 7)
     pool = make_windows(eps, list(range(8)), 1.0, stride=0.5)
-    fitter = Fitter(sh, noise_floor(eps), pool[::5], make_windows(eps, [8, 9, 10, 11], 1.0), _context(scene, eps),
-                    pool=pool)
+    fitter = Fitter(Shooter(scene, eps, 1e-3, 7), noise_floor(eps), pool[::5], make_windows(eps, [8, 9, 10, 11], 1.0),
+                    _context(scene, eps), pool=pool)
+    return case, pool, fitter
+
+
+def test_a_sparse_mass_is_fitted_on_the_windows_where_bodies_meet():
+    case, pool, fitter = _mass_case()
+    eps, scene = case.episodes, case.scene
     eff = EFFECTS.get("mass")(bodies=("box",))
     lo, hi = eff.bounds(fitter.ctx)
     on = fitter.focused(eff, np.array([1.0]), lo, hi, eff.scale(fitter.ctx))
@@ -203,12 +209,7 @@ def test_a_sparse_part_fitted_on_its_own_windows_holds_the_parts_already_in():
     lo, hi = held(eff, np.array([0.04, 1.0]), np.array([0.0, 0.05]), np.array([1.0, 20.0]))
     np.testing.assert_array_equal(lo, [0.04, 0.05])
     np.testing.assert_array_equal(hi, [0.04, 20.0])
-    case = make_case(np.random.default_rng(32), "mass")  # bench case 32: the box is 2.67x heavier
-    eps, scene = case.episodes, case.scene
-    sh = Shooter(scene, eps, 1e-3, 7)
-    pool = make_windows(eps, list(range(8)), 1.0, stride=0.5)
-    fitter = Fitter(sh, noise_floor(eps), pool[::5], make_windows(eps, [8, 9, 10, 11], 1.0), _context(scene, eps),
-                    pool=pool)
+    case, _, fitter = _mass_case()
     res = fitter.fit(eff, [np.array([0.04, 1.0])], max_nfev=5)  # no rolling resistance in the truth
     assert res.params[0] == 0.04  # collision windows do not refit it (they moved it to 0 or 0.142 on 8586058, 1531007)
     assert res.params[1] > 1.3  # the mass still moves towards the truth
