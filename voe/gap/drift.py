@@ -191,11 +191,12 @@ def drifts(shooter: Shooter, sigma: np.ndarray, windows: list[Window], effect: E
     return out
 
 
-def drift_found(p: Problem, model: FitResult, config: GapConfig, seed: int) -> list[Drift]:
+def drift_found(p: Problem, model: FitResult, config: GapConfig, seed: int,
+                ctx: FitContext | None = None) -> list[Drift]:
     """The parts of ``model`` that drift: its parameters on the windows of one time slot against
     the others (``drifts``), and the parts that push bodies in flight when the flight residual
-    changes in time (``flight_drift``)."""
-    ctx = context_for(p.scene, [p.episodes[i] for i in p.split.fit])
+    changes in time (``flight_drift``). ``ctx``: the fitting episodes' context, if the caller has it."""
+    ctx = context_for(p.scene, [p.episodes[i] for i in p.split.fit]) if ctx is None else ctx
     length = config.fit_window / 2
     stride = length / 2
     windows = make_windows(p.episodes, list(p.split.fit), length, stride=stride, bad_start=p.bad)
@@ -255,15 +256,13 @@ def drift_step(p: Problem, loc: Location, s: Search, c: Checked, config: GapConf
             the check kept that model.
     """
     model, keys, dropped = c.model, list(c.keys), list(c.dropped)
-    if model is None:
-        if ahead is not None and ahead.ahead is not None:
-            ahead.ahead.cancel()
+    if model is None:  # a drift test started ahead is stopped when the caller's ``with`` ends
         return c
     ctx = context_for(p.scene, [p.episodes[i] for i in p.split.fit])
     lo, hi = c.lower, c.upper
     found = ahead.found(model) if ahead is not None else None
     if found is None:
-        found = drift_found(p, model, config, seed)
+        found = drift_found(p, model, config, seed, ctx)
     if not found:
         return c
     for d in sorted(found, key=lambda d: -d.part):  # from the last part, so indices stay valid

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from voe.gap.output import atomic_write
+from voe.gap.search import GROUP_TOL
 from voe.gap.shooting import make_windows
 
 
@@ -155,7 +156,7 @@ def _group_lines(groups: list[list[str]], ties: list) -> list[str]:
             close = [k for k in g[1:] if k not in tie.unproven]
             text = f"\n{g[0]} chosen on the {tie.n_differ} selection windows where the group's predictions differ"
             if close:
-                text += f"; {', '.join(close)} fit those windows within 10 % of it"
+                text += f"; {', '.join(close)} fit those windows within {GROUP_TOL * 100:.0f} % of it"
             if tie.unproven:
                 text += f"; too few windows to rule out {', '.join(tie.unproven)} (one-sided sign test)"
             out.append(text + ".")
