@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from voe.gap.drift import drifts, flight_drift, flight_movers, split_estimates
+from voe.gap.drift import MATERIAL, drifts, flight_drift, flight_movers, material, split_estimates
 from voe.gap.effects import EFFECTS
 from voe.gap.prefit import flight_samples
 from voe.gap.shooting import Shooter, make_windows, noise_model
@@ -122,3 +122,18 @@ def test_a_significant_but_immaterial_flight_drift_is_not_a_drift(monkeypatch):
     assert with_step(0.3) is not None and with_step(0.0) is None and with_step(0.06) is not None
     monkeypatch.undo()  # the default: untouched case 7741041 lost a right 0.57 m/s^2 to a 12 % step
     assert with_step(0.06) is None and with_step(0.3) is not None
+
+
+def test_a_parameter_drift_must_be_material_to_the_parts_strength():
+    # 7857006: a linear drag 0.195 in one slot against 0.219 elsewhere is 11 % of its strength
+    assert MATERIAL == 0.3
+    assert material(np.array([0.195]), np.array([0.219]), np.zeros(1)).tolist() == [False]
+    assert material(np.array([0.10]), np.array([0.15]), np.zeros(1)).tolist() == [True]  # 0.05 >= 0.3 * 0.15
+    # strength is measured from the nominal value (a friction nominal 0.6: 1.40 against 1.44 is 5 %)
+    assert material(np.array([1.40]), np.array([1.44]), np.array([0.6])).tolist() == [False]
+    # a vector's strength is its length: a near-zero component is not held to its own size
+    assert material(np.array([0.5, 0.0]), np.array([0.52, 0.2]), np.zeros(2)).tolist() == [False, True]
+    # a zero-mean gust fitted by a constant: the slots differ by more than the constant itself
+    assert material(np.array([0.3, 0.0]), np.array([-0.05, 0.01]), np.zeros(2)).tolist() == [True, False]
+    # a parameter without a nominal value (a position) has no floor
+    assert material(np.array([0.1, 1.0]), np.array([0.1, 1.001]), np.array([0.0, np.nan])).tolist() == [False, True]

@@ -21,6 +21,7 @@ from voe.gap.effects.base import Effect, EffectSum, FitContext
 from voe.gap.fit import FitResult
 from voe.gap.folds import as_sum, without
 from voe.gap.parametric import replicate_errors
+from voe.gap.profile import profile_interval
 from voe.gap.search import Round, window_gain
 from voe.gap.stages import GapConfig, Location, Problem, Search, context_for, fit_windows
 from voe.gap.uncertainty import established, intervals
@@ -45,12 +46,19 @@ def model_intervals(p: Problem, fit_ids: tuple[int, ...], model: FitResult, ctx:
                     seed: int) -> tuple[np.ndarray, np.ndarray]:
     """(P,) 95 % interval ends of ``model``'s parameters on the fitting episodes ``fit_ids``: the
     window bootstrap joined with the parametric bootstrap on replicates simulated under the fit
-    (``voe.gap.uncertainty.intervals``, ``voe.gap.parametric``). One place for the check and
-    the drift step, so both judge "established" on the same interval."""
+    (``voe.gap.uncertainty.intervals``, ``voe.gap.parametric``); a parameter given its whole
+    bounded range there (no window's prediction moves at the fit) is scanned instead
+    (``voe.gap.profile``). One place for the check and the drift step, so both judge
+    "established" on the same interval."""
     errors = replicate_errors(p, fit_ids, config.fit_window, model.effect, model.params, ctx, config.fit.f_scale,
                               seed)
-    return intervals(p.shooter, p.sigma, fit_windows(p, fit_ids, config), model.effect, model.params,
-                     ctx, config.fit.f_scale, seed, errors)
+    windows = fit_windows(p, fit_ids, config)
+    lo, hi = intervals(p.shooter, p.sigma, windows, model.effect, model.params, ctx, config.fit.f_scale, seed, errors)
+    b_lo, b_hi = model.effect.bounds(ctx)
+    blind = (lo <= b_lo) & (hi >= b_hi) & np.isfinite(model.effect.nominal(ctx))  # (P,) whole range: no information
+    for j in np.flatnonzero(blind):  # flat at the fit is not flat everywhere (voe.gap.profile)
+        lo[j], hi[j] = profile_interval(p.shooter, windows, model.effect, model.params, int(j), ctx)
+    return lo, hi
 
 
 def check_step(p: Problem, loc: Location, s: Search, config: GapConfig, seed: int) -> Checked:

@@ -1,0 +1,60 @@
+"""The profile scan that replaces a blind interval (``voe.gap.profile``), on a saturated toy model
+worked out by hand."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from voe.gap.profile import profile_interval, ruled_out, scan_grid
+
+
+class _Sticky:
+    """A friction-like parameter in [0, 3], nominal 0.6: above 1 the box sticks, so every value
+    above 1 predicts the same; below, the prediction moves with it."""
+
+    n_params = 1
+
+    def bounds(self, ctx):
+        return np.array([0.0]), np.array([3.0])
+
+    def nominal(self, ctx):
+        return np.array([0.6])
+
+
+class _Shooter:
+    """Window i's residual: its own noise plus 0.05 m per unit of (min(p, 1) - 1)."""
+
+    def __init__(self, n: int = 12, seed: int = 0, flat_at: float = 1.0) -> None:
+        self.noise = np.random.default_rng(seed).normal(0, 1e-3, (n, 50, 1, 3))
+        self.flat_at = flat_at
+
+    def residuals(self, windows, effect, params):
+        shift = 0.05 * (min(float(params[0]), self.flat_at) - self.flat_at)
+        return [self.noise[w] + shift for w in windows]
+
+
+def test_scan_grid_is_geometric_over_decades_and_holds_the_extras():
+    g = scan_grid(0.05, 20.0, (1.0, 30.0))
+    assert np.isclose(g[0], 0.05) and np.isclose(g[-1], 20.0) and 1.0 in g and 30.0 not in g
+    assert np.allclose(np.diff(np.log(g[g != 1.0])), np.log(400) / 23)
+    lin = scan_grid(0.0, 3.0)
+    assert len(lin) == 24 and np.allclose(np.diff(lin), 3 / 23)
+
+
+def test_equal_predictions_are_never_ruled_out_and_consistently_worse_ones_are():
+    fit = np.full(10, 1.0)
+    assert not ruled_out(fit, fit.copy())
+    assert ruled_out(fit, fit * 4)
+    mixed = fit * np.array([4, 0.25] * 5)  # worse on half the windows, better on the other half
+    assert not ruled_out(fit, mixed)
+
+
+def test_saturated_parameter_gets_the_flat_side_and_excludes_the_nominal_value():
+    lo, hi = profile_interval(_Shooter(), list(range(12)), _Sticky(), np.array([1.44]), 0, None)
+    assert hi == 3.0 and 0.85 < lo <= 1.0 + 3 / 23  # every value >= 1 sticks; the grid step is 3/23
+    assert not lo <= 0.6 <= hi
+
+
+def test_a_parameter_that_moves_nothing_anywhere_keeps_its_whole_range():
+    lo, hi = profile_interval(_Shooter(flat_at=-1.0), list(range(12)), _Sticky(), np.array([1.44]), 0, None)
+    assert (lo, hi) == (0.0, 3.0)

@@ -1,0 +1,64 @@
+"""Where an interval is blind, the values the fitting windows cannot tell from the fit (a profile scan).
+
+Why: ``voe.gap.uncertainty`` steps from the fit by Gauss-Newton, so a parameter that moves no
+window's prediction *at the fit* gets its whole bounded range. A saturated effect is like that:
+above a friction of about 1 the box sticks and any higher value predicts the same, so the cost
+is flat at the fit, yet the nominal 0.6 predicts very differently. Development case 7857016
+(friction 1.44, fitted 1.442, selection gain 72 % against a null threshold of 7.6 %) got the
+interval [0, 3], which holds the nominal value, and the right effect was dropped as not
+established. Flat locally is not flat everywhere: scanning the parameter over its range (the
+others held at the fit) finds where the prediction starts to change, and there a paired
+bootstrap over fitting windows says whether the fit predicts consistently better.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from voe.gap.effects.base import Effect, FitContext
+from voe.gap.search import gain_lower_bound, window_gain
+from voe.gap.shooting import Shooter, Window
+
+N_GRID = 24  # scan points across the bounded range (plus the fit and the nominal value)
+Q = 0.05  # a value is ruled out if the fit's gain over it has a positive bootstrap 5 % quantile
+
+
+def scan_grid(lo: float, hi: float, extra: tuple[float, ...] = ()) -> np.ndarray:
+    """Sorted scan values: geometric when the range is positive and spans more than a decade
+    (a mass scale, 0.05-20), linear otherwise, plus the ``extra`` values inside the range."""
+    grid = np.geomspace(lo, hi, N_GRID) if lo > 0 and hi / lo > 10 else np.linspace(lo, hi, N_GRID)
+    more = [float(x) for x in extra if np.isfinite(x) and lo <= x <= hi]
+    return np.unique(np.concatenate([grid, more]))
+
+
+def ruled_out(fit_sse: np.ndarray, sse: np.ndarray, q: float = Q) -> bool:
+    """Whether the fit predicts the windows better than a scanned value: the gain of the fit over
+    it (``voe.gap.search.window_gain``, every window once) is positive and so is its bootstrap
+    ``q`` quantile. Equal predictions (the flat, saturated side) are never ruled out."""
+    return bool(window_gain(sse, fit_sse) > 0 and gain_lower_bound(sse, fit_sse, q=q) > 0)
+
+
+def profile_interval(shooter: Shooter, windows: list[Window], effect: Effect, params: np.ndarray, j: int,
+                     ctx: FitContext) -> tuple[float, float]:
+    """The hull of the fit and of the scanned values of parameter ``j`` (the rest at ``params``)
+    that the fitting ``windows`` do not rule out (``ruled_out``); the whole bounded range if the
+    range is not finite."""
+    lo_b, hi_b = effect.bounds(ctx)
+    lo, hi = float(lo_b[j]), float(hi_b[j])
+    if not (np.isfinite(lo) and np.isfinite(hi)) or not windows:
+        return lo, hi
+    fit_sse = _sse(shooter, windows, effect, params)  # (W,)
+    kept = [float(params[j])]
+    for v in scan_grid(lo, hi, (float(params[j]), float(effect.nominal(ctx)[j]))):
+        p = np.asarray(params, dtype=float).copy()
+        p[j] = v
+        sse = _sse(shooter, windows, effect, p)
+        if not np.all(np.isfinite(sse)) or ruled_out(fit_sse, sse):
+            continue
+        kept.append(float(v))
+    return min(kept), max(kept)
+
+
+def _sse(shooter: Shooter, windows: list[Window], effect: Effect, params: np.ndarray) -> np.ndarray:
+    """(W,) sum of squared residuals per window."""
+    return np.array([float(np.sum(r**2)) for r in shooter.residuals(windows, effect, params)])
