@@ -58,3 +58,16 @@ def test_saturated_parameter_gets_the_flat_side_and_excludes_the_nominal_value()
 def test_a_parameter_that_moves_nothing_anywhere_keeps_its_whole_range():
     lo, hi = profile_interval(_Shooter(flat_at=-1.0), list(range(12)), _Sticky(), np.array([1.44]), 0, None)
     assert (lo, hi) == (0.0, 3.0)
+
+
+def test_only_the_windows_a_value_changes_decide_and_one_is_not_enough():
+    fit = np.full(18, 1.0)
+    sparse = fit.copy()
+    sparse[[3, 11]] = 50.0  # the fit is better on the two windows where the box slides, equal elsewhere
+    assert ruled_out(fit, sparse)
+    one = fit.copy()
+    one[3] = 50.0
+    assert not ruled_out(fit, one)
+    mixed = sparse.copy()
+    mixed[[5, 7]] = 1 / 50.0  # and worse on two others: no consistent preference
+    assert not ruled_out(fit, mixed)
