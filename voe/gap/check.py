@@ -48,7 +48,9 @@ def model_intervals(p: Problem, fit_ids: tuple[int, ...], model: FitResult, ctx:
     window bootstrap joined with the parametric bootstrap on replicates simulated under the fit
     (``voe.gap.uncertainty.intervals``, ``voe.gap.parametric``); a parameter given its whole
     bounded range there (no window's prediction moves at the fit) is scanned instead
-    (``voe.gap.profile``). One place for the check and the drift step, so both judge
+    (``voe.gap.profile``) on the fitting and selection episodes' windows (development case
+    7857016: the box slid in one of 11 fitting windows, too few to rule anything out, and in
+    several of the selection windows). One place for the check and the drift step, so both judge
     "established" on the same interval."""
     errors = replicate_errors(p, fit_ids, config.fit_window, model.effect, model.params, ctx, config.fit.f_scale,
                               seed)
@@ -56,8 +58,10 @@ def model_intervals(p: Problem, fit_ids: tuple[int, ...], model: FitResult, ctx:
     lo, hi = intervals(p.shooter, p.sigma, windows, model.effect, model.params, ctx, config.fit.f_scale, seed, errors)
     b_lo, b_hi = model.effect.bounds(ctx)
     blind = (lo <= b_lo) & (hi >= b_hi) & np.isfinite(model.effect.nominal(ctx))  # (P,) whole range: no information
+    scan = fit_windows(p, tuple(fit_ids) + tuple(i for i in p.split.select if i not in fit_ids), config) \
+        if blind.any() else []  # the selection episodes too: they accept effects, and a sparse one needs them
     for j in np.flatnonzero(blind):  # flat at the fit is not flat everywhere (voe.gap.profile)
-        lo[j], hi[j] = profile_interval(p.shooter, windows, model.effect, model.params, int(j), ctx)
+        lo[j], hi[j] = profile_interval(p.shooter, scan, model.effect, model.params, int(j), ctx)
     return lo, hi
 
 
