@@ -10,7 +10,8 @@ target share, i.e. the figure ``voe.gap.uncertainty.INFLATE`` records, and the w
 both centred on the fit and shifted to the whole sample's one-step estimate
 (``voe.gap.uncertainty.SHIFT``), each factor with its median interval width, and the interval
 the finder reports since session 12 (the window bootstrap joined with the parametric bootstrap,
-``voe.gap.parametric``): how often it holds the truth and leaves out the nominal value. Dev seeds only
+``voe.gap.parametric``): how often it holds the truth and leaves out the nominal value, for each
+widening of the parametric half-width (``voe.gap.parametric.SPREAD``). Dev seeds only
 (0..99), or ``--case-seeds``: cases of a development bench seed by id (seed * 1000 + index, truth
 as the bench's cycle gives it), e.g. the identified cases whose intervals missed on 3629.
 
@@ -26,7 +27,7 @@ import time
 import numpy as np
 
 from voe.gap.bench import TRUTHS, make_case
-from voe.gap.parametric import basic_interval, replicate_errors
+from voe.gap.parametric import SPREAD, basic_interval, replicate_errors
 from voe.gap.search import window_gain
 from voe.gap.stages import GapConfig, _folded, context_for, fit_windows, prepare
 from voe.gap.uncertainty import TOL, one_step, quantiles, widen, window_terms
@@ -55,8 +56,8 @@ def one(args: tuple[int, str, bool]) -> dict:
     q = {(by, sh): quantiles(terms, res.effect, res.params, ctx, seed, by, shift=sh)
          for by, sh in ((False, False), (True, a_shift), (False, True))}
     errs = replicate_errors(p, p.split.fit, config.fit_window, res.effect, res.params, ctx, config.fit.f_scale, seed)
-    par = basic_interval(one_step(terms, res.effect, res.params, ctx), errs)
-    return {"seed": seed, "truth": truth, "params": res.params, "par": par, "errs": errs, "true": case.params, "q": q, "q_shift": a_shift,
+    return {"seed": seed, "truth": truth, "params": res.params, "est": one_step(terms, res.effect, res.params, ctx),
+            "errs": errs, "true": case.params, "q": q, "q_shift": a_shift,
             "scale": res.effect.scale(ctx), "lo_b": lo_b, "hi_b": hi_b, "nominal": res.effect.nominal(ctx)}
 
 
@@ -69,12 +70,13 @@ def interval(r: dict, by_episode: bool, k: float, tol: float, shift: bool = Fals
     return np.where(blind, r["lo_b"], lo), np.where(blind, r["hi_b"], hi)
 
 
-def parametric_interval(r: dict) -> tuple[np.ndarray, np.ndarray]:
+def parametric_interval(r: dict, spread: float = SPREAD) -> tuple[np.ndarray, np.ndarray]:
     """(P,) ends of the finder's interval with the parametric bootstrap
     (``voe.gap.uncertainty.bootstrap`` given ``errors``): the hull of the fit, the shifted window
-    bootstrap and the bias-corrected parametric interval, not widened."""
+    bootstrap and the bias-corrected parametric interval, its half-width widened ``spread`` times
+    (the finder's: ``voe.gap.parametric.SPREAD``)."""
     q_lo, q_hi, blind = r["q"][(False, True)]
-    p_lo, p_hi = r["par"]
+    p_lo, p_hi = basic_interval(r["est"], r["errs"], spread=spread)
     lo, hi = widen(r["params"], np.fmin(q_lo, p_lo), np.fmax(q_hi, p_hi), r["scale"], 1.0)
     lo, hi = np.clip(lo, r["lo_b"], r["hi_b"]), np.clip(hi, r["lo_b"], r["hi_b"])
     return np.where(blind, r["lo_b"], lo), np.where(blind, r["hi_b"], hi)
@@ -114,7 +116,7 @@ def width(rows: list[dict], k: float, shift: bool) -> float:
     return float(np.median(out))
 
 
-DEV_BENCH_SEEDS = (*range(100), 5151, 6263, 7741, 3629, 1531, 8586)  # PLAN.md: the gap development seeds
+DEV_BENCH_SEEDS = (*range(100), 5151, 6263, 7741, 3629, 1531, 8586, 7857)  # PLAN.md: the gap development seeds
 FACTORS = (1.0, 1.5, 2.0, 2.5, 3.0, 4.0)
 
 
@@ -158,6 +160,11 @@ def main() -> None:
     for name, v in (("parametric + window bootstrap (the finder's)", par), ("window bootstrap shifted, 2.5x", old)):
         print(f"{name}: holds the truth {sum(c for c, _ in v)}/{n}, leaves out the nominal value (established) "
               f"{sum(e for _, e in v)}/{n}, both {sum(c and e for c, e in v)}/{n}")
+    for k in FACTORS:
+        v = [holds(*parametric_interval(r, k), r) for r in rows]
+        mark = " (the finder's)" if k == SPREAD else ""
+        print(f"parametric + window bootstrap, spread {k}{mark}: "
+              f"holds the truth {sum(c for c, _ in v)}/{n}, established {sum(e for _, e in v)}/{n}")
     for sh in (False, True):
         for k in FACTORS:
             c = sum(covered(r, False, k, TOL, sh) for r in rows)

@@ -22,6 +22,8 @@ the fitted parameters *are* the truth, so the replicates' estimates minus the fi
 sample the estimator's error: their mean is its bias, their spread its noise. This is the basic
 (bias-corrected) parametric bootstrap, with the linearised step in place of a refit, so it costs
 ``N_REP`` times the window terms (one rollout per window and parameter), not a refit each.
+The replicates understate the estimator's spread on recordings, so the half-width is widened
+``SPREAD`` times (calibrated on development seeds; see there).
 """
 
 from __future__ import annotations
@@ -35,6 +37,22 @@ from voe.gap.shooting import Shooter, local_state, make_windows
 from voe.gap.synth import pose_noise
 
 N_REP = 8  # replicates: each costs one simulated copy of the fitting episodes plus its window terms
+# The replicates' spread understates the estimator's real spread, so the bias-corrected interval's
+# half-width is widened ``SPREAD`` times (session 14, calibrated on development seeds 8-13 with
+# bench/gap_coverage.py, 72 cases, the true effect fitted as the search fits it). Measured why, on
+# dev case 7857029 (friction, true 0.1876): the same case re-recorded with fresh white noise six
+# times gives fitted values 0.167-0.204 (sd 0.013 over seven, mean 0.186: no bias), while each
+# recording's replicates spread 0.002-0.007. The data's window residuals at the fit are heavier
+# tailed than the replicates' (mean chi^2 per residual 4.3 against 1.8, medians alike): some
+# windows' start states are estimated worse in the recordings than in replicates made from one
+# clean simulation per episode, and Gauss-Newton iterated to convergence lands where the fit did.
+# Share of intervals holding the truth (dev seeds 8-13): 60/72 at 1x, 64/72 at 1.5x, 68/72 at 2x,
+# 69/72 at 2.5x, with 69/72 leaving out the nominal value (established) at each; 2x, the smallest
+# factor over 90 % there. Not widened further: intervals that hold the nominal value drop effects
+# as not established (at 3x one more dev case). Biased fits (a point attractor in a wrong optimum,
+# a friction fitted 0.69 against 1.27 on 7857094) are not covered by any factor; widening is the
+# wrong fix for them.
+SPREAD = 2.0
 
 
 def replicate_errors(p, fit_ids: tuple[int, ...], window: float, effect: Effect, params: np.ndarray,
@@ -64,10 +82,12 @@ def replicate_errors(p, fit_ids: tuple[int, ...], window: float, effect: Effect,
     return np.array(out).reshape(n_rep, len(params))
 
 
-def basic_interval(estimate: np.ndarray, errors: np.ndarray, level: float = 0.95) -> tuple[np.ndarray, np.ndarray]:
+def basic_interval(estimate: np.ndarray, errors: np.ndarray, level: float = 0.95,
+                   spread: float = SPREAD) -> tuple[np.ndarray, np.ndarray]:
     """(P,) ends of the bias-corrected interval from the data's ``estimate`` and the replicates'
     ``errors`` (R, P): estimate minus the mean error, plus or minus Student's t quantile times
-    the errors' spread times sqrt(1 + 1/R).
+    the errors' spread times sqrt(1 + 1/R), widened ``spread`` times (``SPREAD``: the replicates
+    understate the spread of the estimator on recordings).
 
     Why t and sqrt(1 + 1/R): with a handful of replicates both the spread and the bias are
     estimated; the bias estimate's own variance is spread^2 / R, and t with R - 1 degrees of
@@ -83,6 +103,6 @@ def basic_interval(estimate: np.ndarray, errors: np.ndarray, level: float = 0.95
     mean = e.sum(axis=0) / np.maximum(n, 1)
     var = np.where(ok, (errors - mean) ** 2, 0.0).sum(axis=0) / np.maximum(n - 1, 1)
     q = student_t.ppf(0.5 + level / 2, np.maximum(n - 1, 1))
-    half = np.where(n >= 2, q * np.sqrt(var * (1 + 1 / np.maximum(n, 1))), np.inf)
+    half = np.where(n >= 2, spread * q * np.sqrt(var * (1 + 1 / np.maximum(n, 1))), np.inf)
     centre = estimate - mean
     return centre - half, centre + half

@@ -91,8 +91,9 @@ def intervals(shooter: Shooter, sigma: np.ndarray, windows: list[Window], effect
 
     With ``errors`` (R, P), the estimator's errors on replicates simulated under the fit
     (``voe.gap.parametric.replicate_errors``), the interval is the hull of the fit, the window
-    bootstrap's percentile interval and the bias-corrected parametric interval, not widened
-    (``bootstrap``). Without, the window bootstrap alone, widened by ``INFLATE``.
+    bootstrap's percentile interval and the bias-corrected parametric interval (whose half-width
+    ``voe.gap.parametric.SPREAD`` widens), not widened further (``bootstrap``). Without, the
+    window bootstrap alone, widened by ``INFLATE``.
 
     Each part of a sum is bounded with the other parts held at their fitted values. Why: two
     parts can trade off (a mass scale and an absolute damping torque set the same ratio), and a
@@ -150,10 +151,11 @@ def bootstrap(terms: tuple[np.ndarray, np.ndarray, np.ndarray], effect: Effect, 
 
     With the parametric bootstrap's ``errors`` (R, P) the percentile interval is instead joined
     with the bias-corrected parametric interval about the whole sample's one-step estimate
-    (``voe.gap.parametric.basic_interval``) and not widened (``inflate`` defaults to 1). Why:
-    the widening stood in for the estimator's bias and the noise the windows do not show, which
-    the replicates now measure; widening on top pushed true, well-measured effects over their
-    nominal value (``voe.gap.parametric``). The window bootstrap stays in the hull because it
+    (``voe.gap.parametric.basic_interval``, its half-width widened ``parametric.SPREAD``
+    times) and not widened further (``inflate`` defaults to 1). Why: the widening away from the
+    fit stood in for the estimator's bias and the noise the windows do not show, which the
+    replicates now measure; widening the hull on top pushed true, well-measured effects over
+    their nominal value (``voe.gap.parametric``). The window bootstrap stays in the hull because it
     also sees what the noise model does not (residuals that are not noise)."""
     lo_b, hi_b = effect.bounds(ctx)
     if len(terms[0]) == 0:
