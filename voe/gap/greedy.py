@@ -47,7 +47,6 @@ from voe.gap.search import (
     window_gain,
 )
 
-
 _SKIPPED = ("no candidate gained more than the {:.0f} % floor under every threshold (best {:.1f} %), nor did a "
             "pair: the null's round, which could only confirm that nothing passes, was not fitted")
 
