@@ -153,9 +153,23 @@ class PairStep:
     rounds: tuple[Round, Round]
 
 
+def data_pair(fitter: FoldedFitter, results: dict[str, FitResult], current: FitResult | None,
+              before_sse: np.ndarray, floor: float, q: float, n_jobs: int = 1) -> tuple[Pair, float] | None:
+    """The data's best jointly fitted pair and its ``q`` bootstrap lower bound, if its gain is
+    above ``floor`` and the bound positive; else None (no threshold of at least ``floor`` can
+    accept it). The first half of ``pair_step``: it needs no null, so the greedy loop can ask it
+    before deciding whether a round's null is needed at all (``voe.gap.greedy``)."""
+    pair = best_pair(fitter, results, current, before_sse, n_jobs=n_jobs)
+    if pair is None or pair.gain <= floor:
+        return None
+    low = gain_lower_bound(before_sse, pair.result.window_sse, q=q)
+    return (pair, low) if low > 0 else None
+
+
 def pair_step(fitter: FoldedFitter, results: dict[str, FitResult], gains: dict[str, float], lower: dict[str, float],
               before: float, current: FitResult | None, before_sse: np.ndarray, null: NullSearch | NullSnapshot,
-              null_results: dict[str, FitResult], thr: float, q: float, n_jobs: int = 1) -> PairStep | None:
+              null_results: dict[str, FitResult], thr: float, q: float, n_jobs: int = 1,
+              found: tuple[Pair, float] | None = None) -> PairStep | None:
     """The data's best jointly fitted pair if it passes its threshold, else None.
 
     The null's identical pair step (its own round's results, before its forced candidate is
@@ -166,13 +180,13 @@ def pair_step(fitter: FoldedFitter, results: dict[str, FitResult], gains: dict[s
     Args:
         results, gains, lower: the round's single-candidate fits, gains and lower bounds.
         before: the round's selection RMSE before (for its ``Round``).
+        found: ``data_pair``'s answer for these results if the caller already has it (with a
+            floor not above ``thr``), so the data's pairs are not fitted twice.
     """
-    pair = best_pair(fitter, results, current, before_sse, n_jobs=n_jobs)
-    if pair is None or pair.gain <= thr:
+    found = data_pair(fitter, results, current, before_sse, thr, q, n_jobs) if found is None else found
+    if found is None or found[0].gain <= thr:
         return None
-    low = gain_lower_bound(before_sse, pair.result.window_sse, q=q)
-    if low <= 0:
-        return None
+    pair, low = found
     null_pair = best_pair(null.fitter, null_results, null.current, null.before_sse, n_jobs=n_jobs)
     thr_pair = pair_threshold(null_pair, null.before_sse, thr, null.alpha, null.seed)
     if pair.gain <= thr_pair:

@@ -96,7 +96,7 @@ class Round:
     results: dict[str, FitResult]
     gains: dict[str, float]
     lower: dict[str, float]
-    threshold: float
+    threshold: float | None  # None: the null's round was not needed (``voe.gap.greedy``)
     winner: str | None = None
     group: tuple[str, ...] = ()
     basis: str = ""
