@@ -9,7 +9,7 @@ returns a frozen result; the ``*_`` attributes are read from those results.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import asdict, replace
+from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
@@ -22,7 +22,16 @@ from voe.gap.effects import EFFECTS
 from voe.gap.parallel import Ahead
 from voe.gap.recordings import Episode
 from voe.gap.speculate import Speculation
-from voe.gap.stages import GapConfig, Location, Problem, Search, locate_parts, prepare, search_step
+from voe.gap.stages import (
+    GapConfig,
+    Location,
+    PendingLocation,
+    Problem,
+    Search,
+    locate_parts,
+    prepare,
+    search_step,
+)
 from voe.gap.verify import explain
 from voe.sim.scenefile import SceneSpec
 
@@ -64,16 +73,23 @@ class GapFinder:
             n = len(self.problem_.candidates)
             total(3 + 2 * sum(n - r for r in range(min(self.max_effects, n))))
         note("locate")
-        loc, departure = locate_parts(self.problem_, self.config, rng)
-        # the departure test, which only the verdict reads, runs on a second process during the
-        # search (voe.gap.parallel.Ahead; rng is not used after it)
-        # the checks of each model the search accepts start at idle priority while it goes on
-        # (voe.gap.speculate); used only for the model the search ends with
+        null_eps, finish = locate_parts(self.problem_, self.config, rng)
+        # the location but its clean replicate (window z-scores, located stretches, the departure
+        # test) runs on a second process while the search starts (voe.gap.parallel.Ahead; rng is
+        # not used after it); the checks of each model the search accepts start at idle priority
+        # while it goes on (voe.gap.speculate), used only for the model the search ends with
         with Speculation(self.problem_, self.config, self.seed, self.n_jobs) as spec:
-            with Ahead(departure, self.n_jobs, (self.problem_.shooter,)) as dep:
-                self.search_: Search = search_step(self.problem_, loc, self.config, self.max_effects, self.seed,
-                                                   self.n_jobs, note, spec.start)
-                self.location_: Location = replace(loc, departure_p=dep.result())
+            with Ahead(finish, self.n_jobs, (self.problem_.shooter,)) as ahead:
+                got: list[Location] = []
+
+                def location() -> Location:
+                    if not got:
+                        got.append(ahead.result())
+                    return got[0]
+
+                self.search_: Search = search_step(self.problem_, PendingLocation(null_eps, location), self.config,
+                                                   self.max_effects, self.seed, self.n_jobs, note, spec.start)
+                self.location_: Location = location()
             note("check")
             # the drift test of the search's model runs on a second process while the check runs
             # (voe.gap.drift.DriftAhead); used only if the check keeps that model

@@ -67,7 +67,7 @@ class SearchResult:
 
 
 def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch | Callable[[int], float],
-           max_effects: int, contexts: set[str], noise: float, progress: Callable[[str], None] | None = None,
+           max_effects: int, contexts: set[str] | Callable[[], set[str]], noise: float, progress: Callable[[str], None] | None = None,
            lower_q: float | None = 0.05, n_jobs: int = 1,
            on_model: Callable[[FitResult], None] | None = None) -> SearchResult:
     """Add effects one at a time while the selection gain beats the null's threshold of the round
@@ -75,6 +75,7 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
 
     Args:
         null: the null search (its rounds are fitted alongside), or any ``threshold(round)``.
+        contexts: the located contexts, or the call that gives them (asked only when a tie needs them).
         on_model: called with each model the search accepts (refined, as the result's ``model``
             would hold it if the search ended there), so a caller can start the checks of a
             model that may be final while the next round fits (``voe.gap.speculate``).
@@ -141,7 +142,7 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
                 current, keys = _pair_after_trial(fitter, trial, rounds, current, keys, max_effects, q, n_jobs)
             break
         winner, kept, basis, tie = (group[0], (group[0],), "alone", None) if len(group) == 1 else \
-            tie_break(fitter, group, results, pool, contexts, gains, noise)
+            tie_break(fitter, group, results, pool, contexts() if callable(contexts) else contexts, gains, noise)
         plain = pool[winner].global_name
         if plain in results and gains[plain] > thr and lower.get(plain, 1.0) > 0:
             why = f"{winner}'s interval holds every contact" if covers_contacts(fitter, results[winner]) else \

@@ -10,7 +10,7 @@ verdict.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -109,52 +109,68 @@ def prepare(scene: str | Path | SceneSpec, recordings: str | Path | pd.DataFrame
 
 def locate_step(p: Problem, config: GapConfig, rng: np.random.Generator) -> Location:
     """Window z-scores of the data against a clean replicate's; located stretches."""
-    loc, departure = locate_parts(p, config, rng)
-    return replace(loc, departure_p=departure())
+    _, finish = locate_parts(p, config, rng)
+    return finish()
+
+
+@dataclass(frozen=True)
+class PendingLocation:
+    """The clean replicate, known before the rest of the location, and the call that gives the
+    rest (``locate_parts``' second part, or its result from another process)."""
+
+    null_episodes: list[Episode]
+    rest: Callable[[], Location]
 
 
 def locate_parts(p: Problem, config: GapConfig,
-                 rng: np.random.Generator) -> tuple[Location, Callable[[], float]]:
-    """``locate_step`` in two parts: the location without its departure test (``departure_p``
-    left at 1), and the call that computes the test (further clean replicates, drawn from
-    ``rng``, which must not be used between the two).
+                 rng: np.random.Generator) -> tuple[list[Episode], Callable[[], Location]]:
+    """``locate_step`` in two parts: the clean replicate (drawn from ``rng``), and the call that
+    computes the rest: window z-scores of the data and the replicate, the located stretches and
+    the departure test (further clean replicates, drawn from ``rng``, which must not be used
+    between the two).
 
-    Why two: the search needs the clean replicate and the located contexts, not the departure
-    test, which only the verdict reads; the finder runs it on a second process while the search
-    fits (``voe.gap.parallel.Ahead``), where it used to keep the main process busy while the
-    fitting workers waited. The same call on the same inputs gives the same test either way.
+    Why two: the search needs only the clean replicate to start (its null fits on it), and the
+    located contexts only to break a tie after its first round; the departure test only the
+    verdict reads. The finder runs the second part on another process while the search's first
+    round fits (``voe.gap.parallel.Ahead``); the window z-scores (about 0.3 s of
+    ``bench/gap_speed.py``) used to keep the main process busy while the fitting workers waited.
+    The same call on the same inputs gives the same location either way.
     """
     windows = make_windows(p.episodes, list(range(len(p.episodes))), config.locate_window, bad_start=p.bad)
     null_eps = null_like(p.scene, p.episodes, p.sigma, rng, p.substep, p.phi)
-    null_shooter = Shooter(p.scene, null_eps, p.substep, p.half)
-    z_null = window_z(null_shooter, windows, p.sigma).max(axis=(1, 2))  # (W,)
-    z_thr = float(max(config.z_min, np.quantile(z_null, 0.95)))
-    z_strong = float(max(config.z_min, np.max(z_null)))
-    z = window_z(p.shooter, windows, p.sigma)
-    located = [x.to_dict() for x in locate(p.shooter, windows, z, z_thr)]
 
-    def departure() -> float:
+    def finish() -> Location:
+        null_shooter = Shooter(p.scene, null_eps, p.substep, p.half)
+        z_null = window_z(null_shooter, windows, p.sigma).max(axis=(1, 2))  # (W,)
+        z_thr = float(max(config.z_min, np.quantile(z_null, 0.95)))
+        z_strong = float(max(config.z_min, np.max(z_null)))
+        z = window_z(p.shooter, windows, p.sigma)
+        located = [x.to_dict() for x in locate(p.shooter, windows, z, z_thr)]
         dep = make_windows(p.episodes, list(range(len(p.episodes))), DEPARTURE_WINDOW, bad_start=p.bad)  # (voe.gap.departure)
         more = more_replicates(p.scene, p.episodes, p.sigma, p.phi, p.substep, p.half, dep, rng)  # (R - 1, W')
         short = (window_z(p.shooter, dep, p.sigma).max(axis=(1, 2)),
                  np.vstack([window_z(null_shooter, dep, p.sigma).max(axis=(1, 2))[None], more]))
-        return departure_p(z.max(axis=(1, 2)), z_null, short)
+        return Location(windows, located, z_thr, z_strong, null_eps, departure_p(z.max(axis=(1, 2)), z_null, short))
 
-    return Location(windows, located, z_thr, z_strong, null_eps), departure
+    return null_eps, finish
 
 
-def search_step(p: Problem, loc: Location, config: GapConfig, max_effects: int, seed: int, n_jobs: int = 1,
-                progress: Callable[[str], None] | None = None,
+def search_step(p: Problem, loc: Location | PendingLocation, config: GapConfig, max_effects: int, seed: int,
+                n_jobs: int = 1, progress: Callable[[str], None] | None = None,
                 on_model: Callable[[FitResult], None] | None = None) -> Search:
     """The greedy search on the data, each round judged against the same round on clean data;
-    ``on_model`` is called with each model it accepts (``voe.gap.greedy.greedy``)."""
+    ``on_model`` is called with each model it accepts (``voe.gap.greedy.greedy``). With a
+    ``PendingLocation`` the located contexts are asked for only when a tie needs them."""
     note = progress or (lambda s: None)
     data = _folded(p, p.shooter, p.episodes, p.bad, config, seed)
     null_shooter = Shooter(p.scene, loc.null_episodes, p.substep, p.half)
     null_bad = _bad_starts(p.scene, loc.null_episodes, p.half)  # the replicate's own contacts, not the data's
     null = NullSearch(_folded(p, null_shooter, loc.null_episodes, null_bad, config, seed), p.candidates, config.null_alpha,
                       config.min_gain, seed, lambda k: note(f"null: {k}"), n_jobs)
-    contexts = {x["context"] for x in loc.located} or _all_labels(p.scene, p.episodes)
+    def contexts() -> set[str]:
+        located = loc.located if isinstance(loc, Location) else loc.rest().located
+        return {x["context"] for x in located} or _all_labels(p.scene, p.episodes)
+
     noise = float(np.median(p.sigma[:, :2]))
     res = greedy(data, p.candidates, null, max_effects, contexts, noise, lambda k: note(f"fit: {k}"),
                  config.gain_lower_q, n_jobs, on_model)
