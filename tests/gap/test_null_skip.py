@@ -29,6 +29,7 @@ class _Fitter:
         self.sse, self.fitted = sse, []
         self.shooter, self.folds = self, [self]
         self.n_rollouts, self._n_test, self.train = 0, W, [None]
+        self.refined = 0
 
     def _result(self, effect, params) -> FitResult:
         return FitResult(effect, params, 0.0, 0.0, self.sse.get(_key(effect), self.sse[""]), (params,))
@@ -42,6 +43,7 @@ class _Fitter:
         return self._result(eff, np.zeros(eff.n_params))
 
     def refine(self, res):
+        self.refined += 1
         return res
 
     def refit(self, effect, fold_starts, max_nfev=None):
@@ -76,8 +78,10 @@ def test_the_null_round_is_skipped_when_no_data_candidate_reaches_the_floor():
     assert res.keys == ("quadratic_drag",) and len(res.rounds) == 2
     assert res.rounds[1].threshold is None and "was not fitted" in res.rounds[1].basis
     assert len(null.result()) == 1 and len(null_fitter.fitted) == len(NAMES)  # round 1's fits only
+    assert null_fitter.refined == 0  # nor is round 1's forced candidate refined for it
     ref, ref_null, ref_fitter = _search(data, every_round=True)  # every null round fitted, no pair step
     assert len(ref_null.result()) == 2 and len(ref_fitter.fitted) == 2 * len(NAMES) - 1
+    assert ref_fitter.refined == 1
     assert ref.keys == res.keys and _rounds(ref) == _rounds(res)
     assert ref.rounds[1].threshold >= 0.05
 
@@ -87,6 +91,7 @@ def test_the_null_round_is_fitted_when_a_data_candidate_beats_the_floor():
             "linear_drag+quadratic_drag": np.full(W, 0.1 * 0.9**2)}  # round 2: 10 %, over the floor
     res, null, null_fitter = _search(data)
     assert len(null.result()) == 2 and len(null_fitter.fitted) == 2 * len(NAMES) - 1
+    assert null_fitter.refined == 1  # round 1's forced candidate, refined once its next round is fitted
     assert res.rounds[1].threshold == null.result()[1].threshold and res.rounds[1].winner == "linear_drag"
     assert res.keys == ("quadratic_drag", "linear_drag")
 

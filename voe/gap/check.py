@@ -13,6 +13,7 @@ then are the test episodes, untouched so far, simulated.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -65,8 +66,14 @@ def model_intervals(p: Problem, fit_ids: tuple[int, ...], model: FitResult, ctx:
     return lo, hi
 
 
-def check_step(p: Problem, loc: Location, s: Search, config: GapConfig, seed: int) -> Checked:
-    """Prune, bound and test the search's model."""
+def check_step(p: Problem, loc: Location, s: Search, config: GapConfig, seed: int,
+               ahead: Callable[[FitResult], tuple[np.ndarray, np.ndarray] | None] | None = None) -> Checked:
+    """Prune, bound and test the search's model.
+
+    Args:
+        ahead: ``model_intervals`` of a model if it was computed ahead for that model, else None
+            (``voe.gap.speculate.Speculation.intervals``); asked once, for the first model bounded.
+    """
     model, keys = s.result.model, list(s.result.keys)
     thresholds = [r.threshold for r in s.result.rounds if r.winner]
     dropped: list[dict] = []
@@ -90,7 +97,8 @@ def check_step(p: Problem, loc: Location, s: Search, config: GapConfig, seed: in
                                                              f"not more than the threshold {100 * thresholds[k]:.1f} %"})
                 model, keys, thresholds = as_sum(red), keys[:k] + keys[k + 1:], thresholds[:k] + thresholds[k + 1:]
                 continue
-        lo, hi = model_intervals(p, fit_ids, model, ctx, config, seed)
+        got, ahead = (ahead(model) if ahead is not None else None), None
+        lo, hi = got if got is not None else model_intervals(p, fit_ids, model, ctx, config, seed)
         ok = established(model.effect, lo, hi, ctx)
         if all(ok):
             break

@@ -254,9 +254,12 @@ class DriftAhead:
     to the data shooter's count, as if simulated here.
     """
 
-    def __init__(self, p: Problem, model: FitResult | None, config: GapConfig, seed: int, n_jobs: int) -> None:
+    def __init__(self, p: Problem, model: FitResult | None, config: GapConfig, seed: int, n_jobs: int,
+                 started: Ahead | None = None) -> None:
+        """``started``: ``drift_found`` of this same model, already running (``voe.gap.speculate``)."""
         self.key = None if model is None else _model_key(model)
-        self.ahead = None if model is None else Ahead(lambda: drift_found(p, model, config, seed), n_jobs, (p.shooter,))
+        self.ahead = None if model is None else started if started is not None else \
+            Ahead(lambda: drift_found(p, model, config, seed), n_jobs, (p.shooter,))
 
     def found(self, model: FitResult) -> list[Drift] | None:
         """The drifting parts of ``model`` if it is the model started ahead, else None."""

@@ -21,6 +21,7 @@ from voe.gap.drift import DriftAhead, drift_step
 from voe.gap.effects import EFFECTS
 from voe.gap.parallel import Ahead
 from voe.gap.recordings import Episode
+from voe.gap.speculate import Speculation
 from voe.gap.stages import GapConfig, Location, Problem, Search, locate_parts, prepare, search_step
 from voe.gap.verify import explain
 from voe.sim.scenefile import SceneSpec
@@ -66,18 +67,24 @@ class GapFinder:
         loc, departure = locate_parts(self.problem_, self.config, rng)
         # the departure test, which only the verdict reads, runs on a second process during the
         # search (voe.gap.parallel.Ahead; rng is not used after it)
-        with Ahead(departure, self.n_jobs, (self.problem_.shooter,)) as dep:
-            self.search_: Search = search_step(self.problem_, loc, self.config, self.max_effects, self.seed,
-                                               self.n_jobs, note)
-            self.location_: Location = replace(loc, departure_p=dep.result())
-        note("check")
-        # the drift test of the search's model runs on a second process while the check runs
-        # (voe.gap.drift.DriftAhead); used only if the check keeps that model
-        with DriftAhead(self.problem_, self.search_.result.model, self.config, self.seed, self.n_jobs) as ahead:
-            checked = check_step(self.problem_, self.location_, self.search_, self.config, self.seed)
-            note("drift")
-            self.checked_: Checked = drift_step(self.problem_, self.location_, self.search_, checked, self.config,
-                                                self.seed, ahead)
+        # the checks of each model the search accepts start at idle priority while it goes on
+        # (voe.gap.speculate); used only for the model the search ends with
+        with Speculation(self.problem_, self.config, self.seed, self.n_jobs) as spec:
+            with Ahead(departure, self.n_jobs, (self.problem_.shooter,)) as dep:
+                self.search_: Search = search_step(self.problem_, loc, self.config, self.max_effects, self.seed,
+                                                   self.n_jobs, note, spec.start)
+                self.location_: Location = replace(loc, departure_p=dep.result())
+            note("check")
+            # the drift test of the search's model runs on a second process while the check runs
+            # (voe.gap.drift.DriftAhead); used only if the check keeps that model
+            model = self.search_.result.model
+            started = spec.take("drift", model) if model is not None else None
+            with DriftAhead(self.problem_, model, self.config, self.seed, self.n_jobs, started) as ahead:
+                checked = check_step(self.problem_, self.location_, self.search_, self.config, self.seed,
+                                     spec.intervals)
+                note("drift")
+                self.checked_: Checked = drift_step(self.problem_, self.location_, self.search_, checked,
+                                                    self.config, self.seed, ahead)
         return self
 
     # --- findings, read from the stage results ----------------------------------------------

@@ -4,9 +4,8 @@ same round of the null (``voe.gap.null``) and judged against its threshold.
 Why its own module: the statistics of a round (gains, bootstrap bounds, groups, tie-breaks) live
 in ``voe.gap.search``; this loop only schedules work. The data's round ``r`` and the null's round
 ``r`` are needed together (the null's round ``r`` is the threshold of the data's), so their
-candidate fits share one parallel loop, and the refine of the data's winner shares one with the
-refine of the null's forced candidate. Each fit is the one the serial search makes, so results do
-not depend on the schedule.
+candidate fits share one parallel loop. Each fit is the one the serial search makes, so results
+do not depend on the schedule.
 
 A winner whose gain beats the threshold but whose bootstrap lower bound is not positive may be
 accepted on trial (``Trial``): the next round must confirm it, or both are undone.
@@ -18,7 +17,10 @@ nothing can pass whatever the null gives, and the null's round could only confir
 ``bench/gap_speed.py``'s case that round was 30 % of all rollouts (a second effect on top of the
 first, best data gain 1.9 %). The answer is the same; the round's ``threshold`` is then None
 (``gap.json``: null) and the null's record ends a round earlier. The first round's null is always
-fitted (beside the data's): its threshold is the one the explanation and ``gap.md`` state.
+fitted (beside the data's): its threshold is the one the explanation and ``gap.md`` state. For
+the same reason the null's forced candidate is refined only when the null's next round is fitted
+(``NullSearch.task``), not beside the data's winner: on ``bench/gap_speed.py``'s case that refine
+was the longer of the two (0.84 against 0.35 CPU-s) for a round that was then skipped.
 """
 
 from __future__ import annotations
@@ -66,12 +68,16 @@ class SearchResult:
 
 def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch | Callable[[int], float],
            max_effects: int, contexts: set[str], noise: float, progress: Callable[[str], None] | None = None,
-           lower_q: float | None = 0.05, n_jobs: int = 1) -> SearchResult:
+           lower_q: float | None = 0.05, n_jobs: int = 1,
+           on_model: Callable[[FitResult], None] | None = None) -> SearchResult:
     """Add effects one at a time while the selection gain beats the null's threshold of the round
     (and, if ``lower_q`` is set, while its bootstrap ``lower_q`` quantile stays positive).
 
     Args:
         null: the null search (its rounds are fitted alongside), or any ``threshold(round)``.
+        on_model: called with each model the search accepts (refined, as the result's ``model``
+            would hold it if the search ended there), so a caller can start the checks of a
+            model that may be final while the next round fits (``voe.gap.speculate``).
     """
     paired = null if isinstance(null, NullSearch) else None
     threshold = null.threshold if paired is not None else null
@@ -118,13 +124,11 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
                 for k in step.pair.keys:
                     pool.pop(k)
                 goes_on = bool(pool) and len(keys) + 2 < max_effects
-                null_item = paired.pending() if goes_on else None
-                refined = accept_all([(fitter, step.pair.result, step.pair.gain, before_sse)]
-                                     + ([null_item] if null_item else []), n_jobs)
-                if null_item:
-                    paired.accepted(refined[1])
-                current, before_sse = refined[0], refined[0].window_sse
+                current = accept_all([(fitter, step.pair.result, step.pair.gain, before_sse)], n_jobs)[0]
+                before_sse = current.window_sse
                 keys += list(step.pair.keys)
+                if on_model is not None:
+                    on_model(as_sum(current))
                 if not goes_on:
                     break
                 continue
@@ -169,15 +173,11 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
                 if paired is not None and len(outs) > 1 else None
             trial = Trial(len(rounds) - 1, current, before_sse, thr, rounds[-1], snap)
         pool.pop(winner)  # the group's other members stay candidates
-        goes_on = bool(pool) and r + 1 < max_effects
-        items = [(fitter, results[winner], gains[winner], before_sse)]
-        null_item = paired.pending() if paired is not None and goes_on else None
-        refined = accept_all(items + ([null_item] if null_item else []), n_jobs)
-        if null_item:
-            paired.accepted(refined[1])
-        current = refined[0]
+        current = accept_all([(fitter, results[winner], gains[winner], before_sse)], n_jobs)[0]
         before_sse = current.window_sse
         keys.append(winner)
+        if on_model is not None:
+            on_model(as_sum(current))
         if not pool:
             break
     return SearchResult(as_sum(current) if current is not None else None, tuple(rounds), tuple(keys))

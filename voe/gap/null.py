@@ -41,9 +41,8 @@ class NullSearch:
     """Runs the search on clean data round by round.
 
     ``threshold(r)`` computes the rounds up to ``r`` itself; the greedy loop instead fits the
-    null's round alongside the data's (``due``, ``task``, ``record``) and refines the forced
-    candidate alongside the data's winner (``pending``, ``accepted``). Either way every round is
-    the same fit; a forced candidate is refined only when a next round is needed.
+    null's round alongside the data's (``due``, ``task``, ``record``). Either way every round is
+    the same fit; a forced candidate is refined only when its next round is fitted (``task``).
     """
 
     def __init__(self, fitter: FoldedFitter, candidates: dict[str, Effect], alpha: float, min_gain: float,

@@ -11,12 +11,16 @@ answer is the same either way: the forked process runs the same function on the 
 (``voe.parallel``'s contract, written for its ``parallel_map``).
 
 ``Ahead`` is that one forked call. With ``n_jobs`` 1 it runs nothing ahead and ``result`` computes
-in this process.
+in this process. With ``idle=True`` the forked process runs at the lowest priority (nice 19), so
+it takes only CPU time the fitting workers leave unused: work started on a guess
+(``voe.gap.speculate``) then costs the search nothing when the guess is wrong, and ``promote``
+gives it this process's priority back once its result is needed.
 """
 
 from __future__ import annotations
 
 import multiprocessing as mp
+import os
 from collections.abc import Callable
 from concurrent.futures import Future, ProcessPoolExecutor
 from typing import Generic, TypeVar
@@ -32,6 +36,15 @@ def _call(token: int) -> object:
     return _PENDING[token]()
 
 
+IDLE_NICE = 19  # the lowest priority: such a process runs on cores the others leave idle
+
+
+def _release_signals_idle() -> None:
+    _release_signals()
+    if hasattr(os, "setpriority"):
+        os.setpriority(os.PRIO_PROCESS, 0, IDLE_NICE)
+
+
 class Ahead(Generic[R]):
     """``fn()`` started now in one forked process (``n_jobs > 1`` and fork available), else later.
 
@@ -45,7 +58,7 @@ class Ahead(Generic[R]):
             run in this process (the bench reports the count).
     """
 
-    def __init__(self, fn: Callable[[], R], n_jobs: int, counted: tuple = ()) -> None:
+    def __init__(self, fn: Callable[[], R], n_jobs: int, counted: tuple = (), idle: bool = False) -> None:
         self.fn, self.counted = fn, counted
         self._pool: ProcessPoolExecutor | None = None
         self._future: Future | None = None
@@ -54,7 +67,7 @@ class Ahead(Generic[R]):
             _PENDING[token] = self._counting  # before the fork, so the process has it
             self._token = token
             self._pool = ProcessPoolExecutor(max_workers=1, mp_context=mp.get_context("fork"),
-                                             initializer=_release_signals)
+                                             initializer=_release_signals_idle if idle else _release_signals)
             with _signals_held():  # submit forks the process
                 self._future = self._pool.submit(_call, token)
 
@@ -67,6 +80,20 @@ class Ahead(Generic[R]):
     def forked(self) -> bool:
         """Whether ``fn`` runs in a forked process (its side effects stay in that process)."""
         return self._future is not None
+
+    def promote(self) -> bool:
+        """Give the forked process this process's priority (after ``idle=True``); whether it now
+        runs at that priority or has finished. False where lowering a nice value is not
+        permitted (not root, ``RLIMIT_NICE`` 0): the caller may then rather compute itself."""
+        if self._future is None or self._future.done():
+            return self._future is not None
+        try:
+            mine = os.getpriority(os.PRIO_PROCESS, 0)
+            for pid in list(getattr(self._pool, "_processes", None) or {}):
+                os.setpriority(os.PRIO_PROCESS, pid, mine)
+        except (OSError, AttributeError):
+            return self._future.done()
+        return True
 
     def result(self) -> R:
         """``fn()``: from the forked process if it was started, else computed now."""

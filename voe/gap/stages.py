@@ -22,7 +22,7 @@ from voe.gap.departure import WINDOW as DEPARTURE_WINDOW
 from voe.gap.departure import departure_p, more_replicates
 from voe.gap.effects import EFFECTS
 from voe.gap.effects.base import Effect, FitContext
-from voe.gap.fit import FitConfig, Fitter
+from voe.gap.fit import FitConfig, FitResult, Fitter
 from voe.gap.folds import FoldedFitter
 from voe.gap.greedy import SearchResult, greedy
 from voe.gap.locate import locate, window_z
@@ -144,8 +144,10 @@ def locate_parts(p: Problem, config: GapConfig,
 
 
 def search_step(p: Problem, loc: Location, config: GapConfig, max_effects: int, seed: int, n_jobs: int = 1,
-                progress: Callable[[str], None] | None = None) -> Search:
-    """The greedy search on the data, each round judged against the same round on clean data."""
+                progress: Callable[[str], None] | None = None,
+                on_model: Callable[[FitResult], None] | None = None) -> Search:
+    """The greedy search on the data, each round judged against the same round on clean data;
+    ``on_model`` is called with each model it accepts (``voe.gap.greedy.greedy``)."""
     note = progress or (lambda s: None)
     data = _folded(p, p.shooter, p.episodes, p.bad, config, seed)
     null_shooter = Shooter(p.scene, loc.null_episodes, p.substep, p.half)
@@ -155,7 +157,7 @@ def search_step(p: Problem, loc: Location, config: GapConfig, max_effects: int, 
     contexts = {x["context"] for x in loc.located} or _all_labels(p.scene, p.episodes)
     noise = float(np.median(p.sigma[:, :2]))
     res = greedy(data, p.candidates, null, max_effects, contexts, noise, lambda k: note(f"fit: {k}"),
-                 config.gain_lower_q, n_jobs)
+                 config.gain_lower_q, n_jobs, on_model)
     return Search(res, null.result(), data, null_shooter.n_rollouts)
 
 
