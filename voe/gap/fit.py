@@ -246,7 +246,8 @@ def extend(current: Effect | None, params: np.ndarray, cand: Effect, ctx: FitCon
     """``current + cand`` and its starting points (current parameters kept, cand's starts added).
 
     A force effect's starts are first refined by a regression on the free-flight accelerations
-    that ``current`` leaves unexplained (``prefit_starts``); the effect's own grid is kept
+    that ``current`` leaves unexplained (``prefit_starts``), and for an effect that declares
+    ``fine_flight`` also by one on accelerations smoothed over a short span; its own grid is kept
     only when it is small, so the simulator fit starts from at most a handful of points, or when
     the effect declares several valleys (``multi_start > 1``): twice-differenced accelerations
     are noisy, and a regression start can sit in the wrong valley (case 7741034), so it joins
@@ -255,6 +256,8 @@ def extend(current: Effect | None, params: np.ndarray, cand: Effect, ctx: FitCon
     own = cand.starts(ctx)
     lo, hi = cand.bounds(ctx)
     pre = prefit_starts(cand, own, lo, hi, cand.scale(ctx), ctx.flight, ctx.scene, current, params)
+    if cand.fine_flight:  # a force that changes fast: also regress on the briefly smoothed samples
+        pre += prefit_starts(cand, own, lo, hi, cand.scale(ctx), ctx.flight_fine, ctx.scene, current, params)
     if pre:  # an effect with several valleys keeps its grid: the regression is one more start, screened with it
         own = pre + (own if len(own) <= 2 or cand.multi_start > 1 else [])
     if current is None:

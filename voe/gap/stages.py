@@ -27,7 +27,7 @@ from voe.gap.folds import FoldedFitter
 from voe.gap.greedy import SearchResult, greedy
 from voe.gap.locate import locate, window_z
 from voe.gap.null import NullRound, NullSearch
-from voe.gap.prefit import flight_samples
+from voe.gap.prefit import FINE_HALF, flight_samples
 from voe.gap.recordings import Episode, load_recordings
 from voe.gap.scene import load_scene, resolve_joints
 from voe.gap.shooting import Shooter, Window, choose_half, make_windows, noise_model
@@ -183,7 +183,7 @@ def context_for(scene: SceneSpec, episodes: list[Episode]) -> FitContext:
     vel = np.concatenate([np.diff(e.pose, axis=0).reshape(-1, 3) / np.median(np.diff(e.t)) for e in episodes])
     return FitContext(scene, pos.min(axis=0), pos.max(axis=0),
                       float(np.median(np.linalg.norm(vel[:, :2], axis=1))), float(np.median(np.abs(vel[:, 2]))),
-                      flight_samples(scene, episodes))
+                      flight_samples(scene, episodes), flight_samples(scene, episodes, half=FINE_HALF))
 
 
 def fit_windows(p: Problem, ids: tuple[int, ...], config: GapConfig) -> list[Window]:

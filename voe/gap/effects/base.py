@@ -31,6 +31,9 @@ class FitContext:
         omega: typical recorded angular speed in rad/s.
         flight: free-flight samples for regression starting points
             (``voe.gap.prefit.FlightSamples``), or None.
+        flight_fine: the same samples smoothed over ``voe.gap.prefit.FINE_HALF`` (a shorter
+            span, so a force that changes within a fraction of a second keeps its shape), for
+            effects that declare ``fine_flight``; or None.
     """
 
     scene: SceneSpec
@@ -39,6 +42,7 @@ class FitContext:
     speed: float
     omega: float
     flight: object | None = None
+    flight_fine: object | None = None
 
 
 class Effect:
@@ -57,6 +61,7 @@ class Effect:
     sparse: ClassVar[bool] = False  # acts in few windows only (collisions between bodies): fit where it acts
     acts: ClassVar[str] = "always"  # when it acts: "always", "contact" (at contacts/impacts), "region", "joint"
     flight_regression: ClassVar[bool] = True  # free-flight accelerations can seed its starts (voe.gap.prefit)
+    fine_flight: ClassVar[bool] = False  # also seed from accelerations smoothed over a short span (``FitContext.flight_fine``)
     bench_scene: ClassVar[str | None] = None  # the bench scene it is concealed in ("arena", "pendulum"), or None
     multi_start: ClassVar[int] = 1  # simulator fits from its this many most promising starts (voe.gap.fit)
     global_name: ClassVar[str | None] = None  # a region effect's unlimited version (voe.gap.search.covers_contacts)

@@ -28,6 +28,11 @@ class PointAttractor(Effect):
     # but 2x too strong cost more than zero strength on the quick screen, and Powell started at
     # zero strength never moved): fit from the two most promising starts, keep the better
     multi_start = 2
+    # near the point the pull rises and falls within a tenth of a second; regression starts from
+    # briefly smoothed flight accelerations land in the true valley where the grid's 3.8 m
+    # spacing and the 0.25 s smoothing do not (``voe.gap.prefit.FINE_HALF``; development cases
+    # 7857008 and 7857047 ended ``unexplained`` with the attractor fitted in another valley)
+    fine_flight = True
     # a point at infinity with k / |p - r|^2 held fixed pulls with one constant force: a fitted
     # point at its search bound stands for ``constant_acceleration`` (``Effect.at_limit``)
     limit_name = "constant_acceleration"
