@@ -24,7 +24,7 @@ from voe.gap.folds import as_sum, without
 from voe.gap.parametric import replicate_errors
 from voe.gap.profile import profile_interval
 from voe.gap.search import Round, window_gain
-from voe.gap.stages import GapConfig, Location, Problem, Search, context_for, fit_windows
+from voe.gap.stages import GapConfig, Location, Problem, Search, fit_context, fit_windows
 from voe.gap.uncertainty import established, intervals
 from voe.gap.verify import Verification, verify
 
@@ -78,7 +78,7 @@ def check_step(p: Problem, loc: Location, s: Search, config: GapConfig, seed: in
     thresholds = [r.threshold for r in s.result.rounds if r.winner]
     dropped: list[dict] = []
     fit_ids = p.split.fit
-    ctx = context_for(p.scene, [p.episodes[i] for i in fit_ids])
+    ctx = fit_context(p, fit_ids)
     lo = hi = np.zeros(0)
     rounds = {r.winner: r for r in s.result.rounds if r.winner}
     tried = set(keys)

@@ -51,7 +51,7 @@ from voe.gap.nuisance import profiled_terms
 from voe.gap.parallel import Ahead
 from voe.gap.prefit import FlightSamples, _missing
 from voe.gap.shooting import Shooter, Window, make_windows
-from voe.gap.stages import GapConfig, Location, Problem, Search, context_for
+from voe.gap.stages import GapConfig, Location, Problem, Search, fit_context
 from voe.gap.uncertainty import established, window_terms
 from voe.sim.scenefile import SceneSpec
 
@@ -229,7 +229,7 @@ def drift_found(p: Problem, model: FitResult, config: GapConfig, seed: int,
     """The parts of ``model`` that drift: its parameters on the windows of one time slot against
     the others (``drifts``), and the parts that push bodies in flight when the flight residual
     changes in time (``flight_drift``). ``ctx``: the fitting episodes' context, if the caller has it."""
-    ctx = context_for(p.scene, [p.episodes[i] for i in p.split.fit]) if ctx is None else ctx
+    ctx = fit_context(p) if ctx is None else ctx
     length = config.fit_window / 2
     stride = length / 2
     windows = make_windows(p.episodes, list(p.split.fit), length, stride=stride, bad_start=p.bad)
@@ -294,7 +294,7 @@ def drift_step(p: Problem, loc: Location, s: Search, c: Checked, config: GapConf
     model, keys, dropped = c.model, list(c.keys), list(c.dropped)
     if model is None:  # a drift test started ahead is stopped when the caller's ``with`` ends
         return c
-    ctx = context_for(p.scene, [p.episodes[i] for i in p.split.fit])
+    ctx = fit_context(p)
     lo, hi = c.lower, c.upper
     found = ahead.found(model) if ahead is not None else None
     if found is None:

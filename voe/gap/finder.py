@@ -8,6 +8,7 @@ returns a frozen result; the ``*_`` attributes are read from those results.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from dataclasses import asdict
 from pathlib import Path
@@ -80,13 +81,7 @@ class GapFinder:
         # while it goes on (voe.gap.speculate), used only for the model the search ends with
         with Speculation(self.problem_, self.config, self.seed, self.n_jobs) as spec:
             with Ahead(finish, self.n_jobs, (self.problem_.shooter,)) as ahead:
-                got: list[Location] = []
-
-                def location() -> Location:
-                    if not got:
-                        got.append(ahead.result())
-                    return got[0]
-
+                location = functools.cache(ahead.result)  # asked by a tie and at the end; computed once
                 self.search_: Search = search_step(self.problem_, PendingLocation(null_eps, location), self.config,
                                                    self.max_effects, self.seed, self.n_jobs, note, spec.start)
                 self.location_: Location = location()

@@ -17,7 +17,7 @@ from scipy.optimize import minimize, minimize_scalar
 
 from voe.gap.effects.base import Effect, EffectSum, FitContext
 from voe.gap.prefit import prefit_starts
-from voe.gap.shooting import Shooter, Window, rmse
+from voe.gap.shooting import Shooter, Window, rmse, window_sse
 
 
 @dataclass(frozen=True)
@@ -123,7 +123,7 @@ class Fitter:
 
     def heldout_sse(self, effect: Effect | None, params: np.ndarray | None) -> np.ndarray:
         """(W,) held-out sum of squared residuals per window (for the paired bootstrap)."""
-        return np.array([float(np.sum(r**2)) for r in self.shooter.residuals(self.test, effect, params)])
+        return window_sse(self.shooter, self.test, effect, params)
 
     def cost(self, effect: Effect | None, params: np.ndarray | None) -> float:
         """Soft-L1 training cost; remembered per effect and exact parameter vector.

@@ -17,7 +17,7 @@ import numpy as np
 
 from voe.gap.effects.base import Effect, FitContext
 from voe.gap.search import gain_lower_bound, window_gain
-from voe.gap.shooting import Shooter, Window
+from voe.gap.shooting import Shooter, Window, window_sse
 
 N_GRID = 24  # scan points across the bounded range (plus the fit and the nominal value)
 Q = 0.05  # a value is ruled out if the fit's gain over it has a positive bootstrap 5 % quantile
@@ -61,18 +61,14 @@ def profile_interval(shooter: Shooter, windows: list[Window], effect: Effect, pa
     lo, hi = float(lo_b[j]), float(hi_b[j])
     if not (np.isfinite(lo) and np.isfinite(hi)) or not windows:
         return lo, hi
-    fit_sse = _sse(shooter, windows, effect, params)  # (W,)
+    fit_sse = window_sse(shooter, windows, effect, params)  # (W,)
     kept = [float(params[j])]
     for v in scan_grid(lo, hi, (float(params[j]), float(effect.nominal(ctx)[j]))):
         p = np.asarray(params, dtype=float).copy()
         p[j] = v
-        sse = _sse(shooter, windows, effect, p)
+        sse = window_sse(shooter, windows, effect, p)
         if not np.all(np.isfinite(sse)) or ruled_out(fit_sse, sse):
             continue
         kept.append(float(v))
     return min(kept), max(kept)
 
-
-def _sse(shooter: Shooter, windows: list[Window], effect: Effect, params: np.ndarray) -> np.ndarray:
-    """(W,) sum of squared residuals per window."""
-    return np.array([float(np.sum(r**2)) for r in shooter.residuals(windows, effect, params)])

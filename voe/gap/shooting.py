@@ -229,3 +229,8 @@ def window_score(res: list[np.ndarray]) -> float:
     of the model and would let a flexible effect "win" on clean data by luck.
     """
     return float(np.median([np.sqrt(np.mean(r**2)) for r in res])) if res else float("nan")
+
+
+def window_sse(shooter: Shooter, wins: list[Window], effect: Effect | None, params: np.ndarray | None) -> np.ndarray:
+    """(W,) sum of squared residuals of each window (``Shooter.residuals``)."""
+    return np.array([float(np.sum(r**2)) for r in shooter.residuals(wins, effect, params)])

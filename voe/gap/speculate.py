@@ -27,7 +27,7 @@ from voe.gap.check import model_intervals
 from voe.gap.drift import drift_found
 from voe.gap.fit import FitResult, effect_key
 from voe.gap.parallel import Ahead
-from voe.gap.stages import GapConfig, Problem, context_for
+from voe.gap.stages import GapConfig, Problem, fit_context
 
 
 def model_key(model: FitResult) -> tuple:
@@ -55,8 +55,7 @@ class Speculation:
         self.key = model_key(model)
 
         def intervals() -> tuple[np.ndarray, np.ndarray]:
-            ctx = context_for(p.scene, [p.episodes[i] for i in p.split.fit])  # as check_step builds it
-            return model_intervals(p, p.split.fit, model, ctx, config, seed)
+            return model_intervals(p, p.split.fit, model, fit_context(p), config, seed)
 
         self._aheads = {"intervals": Ahead(intervals, self.n_jobs, (p.shooter,), idle=True),
                         "drift": Ahead(lambda: drift_found(p, model, config, seed), self.n_jobs, (p.shooter,),

@@ -186,6 +186,12 @@ def context_for(scene: SceneSpec, episodes: list[Episode]) -> FitContext:
                       flight_samples(scene, episodes), flight_samples(scene, episodes, half=FINE_HALF))
 
 
+def fit_context(p: Problem, ids: tuple[int, ...] | None = None) -> FitContext:
+    """``context_for`` the episodes ``ids`` (default: the fitting episodes): the one context the
+    check, the drift test and the checks started ahead (``voe.gap.speculate``) all bound in."""
+    return context_for(p.scene, [p.episodes[i] for i in (p.split.fit if ids is None else ids)])
+
+
 def fit_windows(p: Problem, ids: tuple[int, ...], config: GapConfig) -> list[Window]:
     """Back-to-back windows of episodes ``ids`` (bad starts moved on)."""
     return make_windows(p.episodes, list(ids), config.fit_window, bad_start=p.bad)
