@@ -77,3 +77,17 @@ def test_point_attractor_keeps_its_grid_beside_the_regression_starts():
     _, spring_starts = extend(None, np.zeros(0), spring, ctx)
     assert spring.multi_start == 1 and len(spring.starts(ctx)) > 2
     assert len(spring_starts) <= 2  # a one-valley effect still starts from its regression fits only
+
+
+def test_a_fit_on_the_full_training_windows_holds_their_cost_to_the_bit():
+    # voe.gap.pairs._train_cost reuses it instead of simulating every training window again
+    scene, eps = flight_episodes("quadratic_drag", [0.12], seed=1)
+    fitter, _ = _fitter(scene, eps)
+    for name in ("quadratic_drag", "constant_acceleration"):  # bounded Brent and Powell
+        eff = EFFECTS.get(name)()
+        res = fitter.fit(eff)
+        assert res.train_full
+        fitter._memo = {}  # noqa: SLF001  # simulated afresh
+        n0 = fitter.shooter.n_rollouts
+        assert fitter.cost(eff, res.params) == res.train_cost
+        assert fitter.shooter.n_rollouts == n0 + len(fitter.train)

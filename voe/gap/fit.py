@@ -39,6 +39,7 @@ class FitResult:
     heldout_rmse: float
     window_sse: np.ndarray | None = None  # (W,) held-out squared error per window
     fold_params: tuple[np.ndarray, ...] = ()  # per fold (see voe.gap.folds); () means (params,)
+    train_full: bool = False  # train_cost is the cost on every fold's full training windows (not a focused subset)
 
     def __post_init__(self) -> None:
         if not self.fold_params:
@@ -154,7 +155,7 @@ class Fitter:
         if effect.n_params == 0:
             sse = self.heldout_sse(effect, np.zeros(0))
             return FitResult(effect, np.zeros(0), self.cost(effect, np.zeros(0)),
-                             float(np.sqrt(sse.sum() / max(self._n_test, 1))), sse)
+                             float(np.sqrt(sse.sum() / max(self._n_test, 1))), sse, train_full=True)
         self._memo = {}  # per fit: the work, and the rollout count, must not depend on which process fitted before
         nfev = max_nfev or self.config.max_nfev
         lo, hi = effect.bounds(self.ctx)
@@ -177,10 +178,10 @@ class Fitter:
             if len(starts) > 1:  # compare on the full training windows, not a focused subset
                 cost = self.cost(effect, x)
             if best is None or cost < best[1]:
-                best = (x, cost)
-        x, cost = best
+                best = (x, cost, len(starts) > 1 or on is self)
+        x, cost, full = best
         sse = self.heldout_sse(effect, x)
-        return FitResult(effect, x, cost, float(np.sqrt(sse.sum() / self._n_test)), sse)
+        return FitResult(effect, x, cost, float(np.sqrt(sse.sum() / self._n_test)), sse, train_full=full)
 
     @property
     def _n_test(self) -> int:

@@ -59,7 +59,16 @@ class Pair:
 
 def _train_cost(fitter: FoldedFitter, res: FitResult) -> float:
     """Training cost of ``res`` on every fold's full training windows (a sparse effect's own fit
-    cost counts only the windows it was focused on, so costs are recomputed alike)."""
+    cost counts only the windows it was focused on, so its cost is recomputed alike).
+
+    A fit that ended on the full training windows (``FitResult.train_full``) already holds that
+    number: the cost of its final parameters, summed over folds in the same order, to the bit.
+    Why reuse it: the fits ran in forked workers, so recomputing it here simulated every
+    candidate's training windows again in the main process while both workers waited (on
+    ``bench/gap_speed.py``'s case 96 rollouts before the pair step's fits could start).
+    """
+    if res.train_full:
+        return float(res.train_cost)
     return float(sum(f.cost(res.effect, p) for f, p in zip(fitter.folds, res.fold_params, strict=True)))
 
 

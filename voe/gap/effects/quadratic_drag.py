@@ -5,6 +5,8 @@ Why: at everyday speeds air drag grows with the square of the speed; c = rho Cd 
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from voe.gap.effects.base import Effect, FitContext
@@ -25,6 +27,28 @@ class QuadraticDrag(Effect):
         # without its checks: this runs at every kick of every rollout on top of a fitted drag
         speed = np.sqrt(np.add.reduce(v * v, axis=1, keepdims=True))  # (B, 1)
         return -p[0] * state.mass[:, None] * speed * v, np.zeros_like(state.angle)
+
+    def prepare(self, params: np.ndarray, scene: SceneSpec) -> Callable[[SimState], tuple[np.ndarray, np.ndarray]]:
+        """``_forces`` with ``-c m`` (B, 1) and the zero torque kept while the masses stay the same array.
+
+        Why: on top of a fitted drag every rollout of a later round calls this at every kick
+        (``voe.sim.lockstep`` passes the same mass array each time); the same products in the
+        same order, so the same forces to the bit.
+        """
+        p = self.check(params)
+        mask = self.mask(scene)
+        mf = None if mask.all() else mask.astype(float)
+        memo: list = [None, None, None]  # mass array, -c m (B, 1), zero torque (B,)
+
+        def force(state: SimState) -> tuple[np.ndarray, np.ndarray]:
+            if memo[0] is not state.mass:
+                memo[:] = [state.mass, -p[0] * state.mass[:, None], np.zeros_like(state.angle)]
+                memo[2].flags.writeable = False
+            v = state.vel  # (B, 2)
+            f = memo[1] * np.sqrt(np.add.reduce(v * v, axis=1, keepdims=True)) * v
+            return (f, memo[2]) if mf is None else (f * mf[:, None], memo[2] * mf)
+
+        return force
 
     def starts(self, ctx: FitContext) -> list[np.ndarray]:
         return [np.array([0.01 / max(ctx.speed, 0.1) ** 2])]
