@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from voe.gap.drift import MATERIAL, drifts, flight_drift, flight_movers, material, split_estimates
 from voe.gap.effects import EFFECTS
+from voe.gap.parametric import SPREAD
 from voe.gap.prefit import flight_samples
 from voe.gap.shooting import Shooter, make_windows, noise_model
 from voe.gap.stages import context_for
@@ -63,9 +65,13 @@ def test_split_estimates_worked_example():
     hs = np.ones((6, 1, 1))
     gs = np.array([[-1.0], [-3.0], [-2.0], [1.0], [1.0], [1.0]])
     side = np.array([True, True, True, False, False, False])
-    a, b, sd = split_estimates(hs, gs, np.zeros(1), side, slice(0, 1), np.random.default_rng(0))
+    a, b, sd = split_estimates(hs, gs, np.zeros(1), side, slice(0, 1), np.random.default_rng(0), spread=1.0)
     np.testing.assert_allclose([a[0], b[0]], [2.0, -1.0], atol=1e-9)
     assert sd[0] >= np.sqrt(2 / 3) - 1e-9 and sd[0] < 1.5
+    # the finder's: the same estimates, the sd widened SPREAD times (the windows' understatement)
+    a2, b2, sd2 = split_estimates(hs, gs, np.zeros(1), side, slice(0, 1), np.random.default_rng(0))
+    np.testing.assert_allclose([a2[0], b2[0]], [2.0, -1.0], atol=1e-9)
+    assert SPREAD > 1 and sd2[0] == pytest.approx(SPREAD * sd[0])
     assert split_estimates(hs, gs, np.zeros(1), side, slice(0, 1), np.random.default_rng(0),
                            scale=np.array([0.1])) is None  # curvature 3 x 0.1^2 per scale step: blind
     assert split_estimates(hs[:5], gs[:5], np.zeros(1), side[:5], slice(0, 1),

@@ -57,6 +57,29 @@ def test_a_provisional_winner_stays_only_if_the_next_round_confirms_it():
     assert res.keys == () and len(res.rounds) == 1
 
 
+def test_a_later_trial_that_nothing_can_confirm_is_kept_for_the_check():
+    """A trial on top of a model accepted without trial stays when the next round has nothing to
+    confirm or refuse it (``Trial.last``): the last effect of a compound truth has no next one."""
+    from voe.gap.greedy import greedy
+    from voe.gap.search import gain_lower_bound, window_gain
+
+    base, first = np.ones(20), np.full(20, 0.5)  # (W,) the first effect: every window better
+    split = 0.5 * np.r_[np.full(2, 1e-8), np.full(18, 2.0)]  # two windows far better, the rest worse
+    assert window_gain(base, first) > 0.1 and gain_lower_bound(base, first) > 0
+    assert window_gain(first, split) > 0.1 and gain_lower_bound(first, split) <= 0
+    cands = {k: EFFECTS.get(k)() for k in ("linear_drag", "quadratic_drag", "angular_damping")}
+    table = {"": base, "linear_drag": first, "quadratic_drag": np.full(20, 0.99), "angular_damping": np.full(20, 0.99),
+             "linear_drag+quadratic_drag": split, "angular_damping+linear_drag": first,
+             "angular_damping+linear_drag+quadratic_drag": split}
+    res = greedy(_TableFitter(table), cands, lambda r: 0.1, 3, set(), 1e-3)
+    assert res.keys == ("linear_drag", "quadratic_drag")
+    assert "provisional" in res.rounds[1].basis and "nothing in the next round confirmed" in res.rounds[1].basis
+    assert res.rounds[2].winner is None
+    table["angular_damping+linear_drag+quadratic_drag"] = 0.7 * split  # passes alone; the pair is refused: undone
+    res = greedy(_TableFitter(table), cands, lambda r: 0.1, 3, set(), 1e-3)
+    assert res.keys == ("linear_drag",) and res.rounds[1].winner is None and "not confirmed" in res.rounds[1].basis
+
+
 class _PairFitter:
     """Selection errors per window, training costs and training motions from tables keyed by the
     effects' names, for both the greedy loop and the pair step (missing keys: no change)."""
