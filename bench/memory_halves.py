@@ -20,9 +20,11 @@ import argparse
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 
 
 def main() -> None:
+    from voe.controls.confound import off_chance
     from voe.controls.matrix import two_sided_pvalue
     from voe.controls.random_nets import random_network
     from voe.io.probeset import load_probe_set
@@ -30,7 +32,6 @@ def main() -> None:
     from voe.scoring.halves import halves, quadruplet_halves, splice_sides
     from voe.scoring.metrics import TIE_ATOL, TIE_RTOL
     from voe.scoring.stats import bootstrap_ci
-    from voe.scoring.verdict import ALPHA
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("probes", type=Path)
@@ -63,7 +64,8 @@ def main() -> None:
                 dd += [abs(d_ab), abs(d_ba)]
             name = a.ckpt.name if a.ckpt else f"s{i}"
             lo, hi = bootstrap_ci(np.array(hv))
-            off = (lo > 0.5 or hi < 0.5) and two_sided_pvalue(np.array(hv)) < ALPHA
+            cell = pd.DataFrame({"ci_low": [lo], "ci_high": [hi], "p_two_sided": [two_sided_pvalue(np.array(hv))]})
+            off = bool(off_chance(cell).iloc[0])  # the suite's own rule, not a copy
             print(f"{c:16s} {name:10s} halves {np.mean(hv):.2f} [{lo:.2f}, {hi:.2f}]{' OFF' if off else '    '}"
                   f"  sum {np.mean(sm):.2f}  "
                   f"median |d| {np.median(dd):.4f}  max |d| {np.max(dd):.4f}  (sets {len(hv)})", flush=True)
