@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from voe.gap.effects import EFFECTS
-from voe.gap.effects.base import EffectSum
+from voe.gap.effects.base import EffectSum, FitContext
 from voe.gap.fit import FitResult
 from voe.gap.pairs import Pair, best_pair, pair_threshold
 from voe.gap.search import window_gain
@@ -29,6 +29,8 @@ class _Shooter:
 
 
 class _Fold:
+    ctx = FitContext(None, np.array([0.0, 0.0]), np.array([2.0, 2.0]), 1.0, 1.0)  # attractor points: x, y in [-3, 5] m
+
     def __init__(self, costs: dict[str, float], moves: dict[str, np.ndarray]) -> None:
         self.costs, self.shooter, self.train = costs, _Shooter(moves), [None]
 
@@ -99,3 +101,35 @@ def test_of_two_fits_that_predict_the_same_motion_the_simpler_is_paired():
     pair = best_pair(fitter, {k: _single(k, sse[k]) for k in names}, None, base)
     assert pair is not None and set(pair.keys) == {"constant_acceleration", "angular_damping"}
     assert not any("point_attractor" in k for k in fitter.refits)  # redundant with the simpler wind
+
+
+def test_an_attractor_at_its_search_bound_is_paired_as_the_constant_force_it_stands_for():
+    # 5250116: the attractor's point ran to the y bound; the constant acceleration ranked just
+    # below the top 3 by training cost and was never paired with the spin damping
+    base = np.ones(W)
+    names = ("angular_damping", "spring_anchor", "point_attractor", "constant_acceleration", "linear_drag")
+    costs = dict(zip(names, (10.0, 12.0, 14.0, 14.2, 30.0), strict=True))
+    sse = {k: np.full(W, 1.2) for k in names}
+    for i, a in enumerate(names):
+        for b in names[i + 1:]:
+            sse["+".join(sorted((a, b)))] = np.full(W, 0.8)
+    sse["angular_damping+point_attractor"] = np.full(W, 0.09)
+    sse["angular_damping+constant_acceleration"] = np.full(W, 0.085)
+
+    def run(attractor: np.ndarray) -> tuple[Pair | None, list[str]]:
+        results = {k: _single(k, sse[k]) for k in names}
+        results["point_attractor"] = FitResult(EffectSum((EFFECTS.get("point_attractor")(),)), attractor, 0.0, 0.0,
+                                               sse["point_attractor"])
+        results["spring_anchor"] = FitResult(EffectSum((EFFECTS.get("spring_anchor")(),)), np.array([0.5, 1.0, 1.0]),
+                                             0.0, 0.0, sse["spring_anchor"])  # an anchor among the bodies
+        moves = {"": np.zeros(5), **{k: 10.0 * np.eye(5)[i] for i, k in enumerate(names)}}  # all distinct
+        fitter = _TableFitter(sse, costs, moves)
+        return best_pair(fitter, results, None, base), fitter.refits
+
+    pair, refits = run(np.array([5.0, 1.0, -2.99]))  # y at the lower bound (-3 m): heading for a constant force
+    assert pair is not None and set(pair.keys) == {"angular_damping", "constant_acceleration"}
+    assert not any("point_attractor" in k for k in refits) and len(refits) == 3
+    pair, refits = run(np.array([5.0, 1.0, 1.0]))  # a point among the bodies is a point: paired as before
+    assert pair is not None and set(pair.keys) == {"angular_damping", "point_attractor"}
+    assert not any("constant_acceleration" in k for k in refits)
+

@@ -79,8 +79,8 @@ def best_pair(fitter: FoldedFitter, results: dict[str, FitResult], current: FitR
     highest selection gain (each fit deterministic: the answer does not depend on ``n_jobs``)."""
     n_cur = 0 if current is None else current.params.size
     costs = {k: _train_cost(fitter, r) for k, r in results.items() if np.all(np.isfinite(r.params))}
-    ranked = distinct(fitter, results, current, sorted((k for k in costs if np.isfinite(costs[k])),
-                                                        key=lambda k: costs[k]), top)
+    ranked = distinct(fitter, results, current, at_limits(fitter, results, sorted(
+        (k for k in costs if np.isfinite(costs[k])), key=lambda k: costs[k])), top)
     best: Pair | None = None
     pairs = list(combinations(ranked, 2))
 
@@ -99,6 +99,35 @@ def best_pair(fitter: FoldedFitter, results: dict[str, FitResult], current: FitR
         if np.isfinite(gain) and (best is None or gain > best.gain):
             best = Pair((a, b), res, float(gain))
     return best
+
+
+def at_limits(fitter: FoldedFitter, results: dict[str, FitResult], ranked: list[str]) -> list[str]:
+    """``ranked`` with each candidate whose fit sits at the bound where it becomes its nested limit
+    (``Effect.at_limit`` in every fold) replaced there by that limit, if the limit is ranked too
+    (each key once, at its first place).
+
+    Why: a point attractor or a spring whose point runs to its search bound was heading for a
+    constant force (``constant_acceleration``), and its position says where the bound lies, not
+    where a point is; ``voe.gap.search.bound_limit`` names the limit for a single winner, and the
+    pair step must pair the limit for the same reason. Development case 5250116 (a wind and a
+    spin damping, fitted on top of a first-round drag): the training costs ranked
+    ``angular_damping``, ``spring_anchor``, ``point_attractor`` (its point at the y bound,
+    -2.30 m) and then ``constant_acceleration`` (1.5 % more cost), so only the attractor was paired with
+    the spin damping (selection gain 70.5 %) and was named; the spin damping with the constant
+    acceleration gains 70.8 % at about half the training cost, and was never fitted.
+    """
+    out: list[str] = []
+    for k in ranked:
+        part = results[k].effect.parts[-1]
+        lim = next((j for j in ranked if results[j].effect.parts[-1].name == part.limit_name), None) \
+            if part.limit_name else None
+        n, fps = part.n_params, results[k].fold_params
+        if lim is not None and len(fps) == len(fitter.folds) and all(
+                part.at_limit(p[-n:], f.ctx) for f, p in zip(fitter.folds, fps, strict=True)):
+            k = lim
+        if k not in out:
+            out.append(k)
+    return out
 
 
 REDUNDANT = 0.5  # two fits whose training predictions differ by less than half of what either changes
