@@ -21,6 +21,10 @@ Last, the carried look at returns (median |error| and predicted sd of width and 
 constancy (unchangeableness) turns on a 35-55 % size or a shape change behind the screen, which
 a remembered look tells only while its error and sd stay well below that.
 
+Only the *possible* occluded clips are traced (session 16): an impossible clip's object comes back
+2-4 frames off its physical path by design, so a perfect rollout would be "within 1 frame" on only
+half of a mixed sample; its errors measure the violation, not the rollout.
+
 Usage: ``python bench/hidden_rollout.py CKPT PROBES CONCEPT [CONCEPT ...] [--clips 64]``
 (a development probe set only).
 """
@@ -44,9 +48,10 @@ def trace(ckpt: Path, probes: Path, concept: str, clips: int) -> str:
     m = load_model(read_checkpoint(ckpt)["model"], None, ckpt)  # any interaction version
     ps = load_probe_set(probes)
     idx = ps.index
-    ids = list(idx.clip_id[(idx.concept_name == concept) & (idx.condition == "occluded")])[:clips]
+    ids = list(idx.clip_id[(idx.concept_name == concept) & (idx.condition == "occluded")
+                           & (idx.role == "possible")])[:clips]
     if not ids:
-        raise SystemExit(f"hidden_rollout: no occluded clips of concept {concept!r} in {probes}")
+        raise SystemExit(f"hidden_rollout: no possible occluded clips of concept {concept!r} in {probes}")
     b = ps.batch(ids)
     steps: list[tuple[torch.Tensor, torch.Tensor]] = []
     m.net.eval()

@@ -285,8 +285,10 @@ def test_sparse_bootstrap_draws_from_the_informative_windows():
         uncertainty.STRATIFY = False
         lo, hi, _ = uncertainty.quantiles(terms, eff, np.array([0.4]), ctx, shift=False)
         lo_b, hi_b = eff.bounds(ctx)
-        assert lo[0] == lo_b[0] or hi[0] == hi_b[0]  # a resample without a collision runs to a bound
-        lo_b, hi_b = eff.bounds(ctx)
+        # centred by each window's own curvature (``centred``), a window without curvature carries
+        # no gradient either, so even unstratified a resample without a collision stays at the fit
+        # (centred by the mean gradient it ran to a bound)
+        assert lo_b[0] < lo[0] <= 0.4 <= hi[0] < hi_b[0]
         one = (hs.copy(), gs.copy(), terms[2])
         one[0][[11, 20]] = 0.0  # a single informative window says nothing about its own spread
         uncertainty.STRATIFY = True
@@ -295,6 +297,34 @@ def test_sparse_bootstrap_draws_from_the_informative_windows():
         assert not blind[0] and lo[0] == pytest.approx(0.4 - half) and hi[0] == pytest.approx(0.4 + half)
     finally:
         uncertainty.STRATIFY = old
+
+
+def test_centring_by_curvature_keeps_a_sparse_effects_weak_windows_from_running_to_a_bound():
+    # development case 5250068 (friction 1.25, the scene's 0.58): three informative fitting
+    # windows, one holding nearly all the curvature; centred by the mean gradient, the two weak
+    # windows inherited the strong one's summed gradient and a resample without it stepped to the
+    # bound 0, so the interval held the nominal value and the true effect was dropped
+    from types import SimpleNamespace
+
+    from voe.gap import uncertainty
+
+    ctx = SimpleNamespace()
+    eff = EffectSum((EFFECTS.get("friction")(),))
+    hs = np.array([6.366e3, 3.629e6, 8.46e2]).reshape(3, 1, 1)  # (W, P, P), per unit squared
+    gs = np.array([-243.0, -6086.0, 359.0]).reshape(3, 1)  # (W, P)
+    terms = (hs, gs, np.arange(3))
+    g = uncertainty.centred(hs, gs, slice(0, 1), np.zeros((1, 1)))
+    assert g.sum() == pytest.approx(0.0, abs=1e-6)  # the joint optimum: the whole sample steps nowhere
+    assert g[:, 0] == pytest.approx(gs[:, 0] - hs[:, 0, 0] * gs.sum() / hs.sum())
+    lo, hi, _ = uncertainty.quantiles(terms, eff, np.array([1.236]), ctx, seed=5250068)
+    assert 0.7 < lo[0] < 1.236 < hi[0] < 1.4  # the nominal 0.58 is outside
+    old = uncertainty.centred
+    try:
+        uncertainty.centred = lambda h, g, sl, ridge: g - g.mean(axis=0)  # the mean centring before
+        lo, _, _ = uncertainty.quantiles(terms, eff, np.array([1.236]), ctx, seed=5250068)
+        assert lo[0] < 0.58
+    finally:
+        uncertainty.centred = old
 
 
 def test_a_tie_is_not_broken_on_too_few_windows():
