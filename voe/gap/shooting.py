@@ -10,6 +10,7 @@ integrates; ``sigma_pred`` gives that growth so residuals can be turned into z-s
 
 from __future__ import annotations
 
+from collections import OrderedDict
 from dataclasses import dataclass
 
 import numpy as np
@@ -139,6 +140,22 @@ def gyration(scene: SceneSpec) -> np.ndarray:
     return np.array([b.gyration_radius for b in scene.bodies])
 
 
+MEMO = 2048  # windows a Shooter remembers (about 5 kB each for 1 s of two bodies at 100 Hz)
+
+
+def _effect_key(effect: Effect | None, params: np.ndarray | None) -> tuple | None:
+    """What a rollout depends on besides the window: each part's class and bodies, and the
+    parameters to the bit ((None,) for the nominal scene). None (not remembered) unless every
+    part is a library effect (``voe.gap.effects``, whose force laws keep no state between
+    calls; the bench's ``Gust`` counts its kicks)."""
+    if effect is None:
+        return (None,)
+    if not all(type(e).__module__.startswith("voe.gap.effects.") for e in effect.parts):
+        return None
+    p = np.asarray(params, dtype=float)
+    return (tuple((type(e), e.bodies) for e in effect.parts), p.shape, p.tobytes())
+
+
 class Shooter:
     """Simulates windows of recorded episodes under an effect with given parameters.
 
@@ -152,7 +169,9 @@ class Shooter:
         self.scene, self.episodes, self.substep, self.half = scene, episodes, substep, half
         self._ic: dict[tuple[int, int], tuple[np.ndarray, np.ndarray, float]] = {}
         self.scale = np.concatenate([np.ones((len(scene.bodies), 2)), gyration(scene)[:, None]], axis=1)  # (B, 3)
-        self.n_rollouts = 0
+        self.n_rollouts = 0  # windows asked for (one found in the memo counts too: the count does not depend on processes)
+        self.n_memo = 0  # of which taken from the memo
+        self._memo: OrderedDict[tuple, np.ndarray] = OrderedDict()
 
     def initial(self, ep: int, k: int) -> tuple[np.ndarray, np.ndarray, float]:
         key = (ep, k)
@@ -166,11 +185,41 @@ class Shooter:
 
     def simulate_many(self, wins: list[Window], effect: Effect | None, params: np.ndarray | None) -> list[np.ndarray]:
         """Predicted poses (n_i, B, 3) of every window, simulated side by side (``run_many``);
-        each is the same as ``simulate`` gives it alone."""
-        starts = [self.initial(w.ep, w.k0)[:2] for w in wins]
-        times = [self.episodes[w.ep].t[w.k0:w.k1 + 1] for w in wins]
+        each is the same as ``simulate`` gives it alone.
+
+        A window simulated before under the same effect (classes and bodies of its parts) and
+        the same parameter vector (to the bit) is taken from a memo of the last ``MEMO`` windows
+        (a copy): the simulation is deterministic and a window's poses do not depend on the
+        windows simulated beside it, so the poses are the same. Why: the same windows come back
+        under the same model (the nominal model at several stages, a fit's start point, a
+        line search that evaluates its current point again); about 3 % of the rollouts of
+        ``bench/gap_speed.py``.
+        """
         self.n_rollouts += len(wins)
-        return run_many(self.scene, starts, times, self.substep, effect, params)
+        key = _effect_key(effect, params)
+        keys = [(key, w.ep, w.k0, w.k1) for w in wins]
+        memo = self._memo if key is not None else {}
+        out: list[np.ndarray | None] = [None] * len(wins)
+        todo = []
+        for i, k in enumerate(keys):
+            hit = memo.get(k)
+            if hit is None:
+                todo.append(i)
+            else:
+                memo.move_to_end(k)
+                out[i] = hit.copy()
+                self.n_memo += 1
+        if todo:
+            sub = [wins[i] for i in todo]
+            starts = [self.initial(w.ep, w.k0)[:2] for w in sub]
+            times = [self.episodes[w.ep].t[w.k0:w.k1 + 1] for w in sub]
+            for i, pose in zip(todo, run_many(self.scene, starts, times, self.substep, effect, params), strict=True):
+                out[i] = pose
+                if key is not None:
+                    memo[keys[i]] = pose.copy()
+            while len(self._memo) > MEMO:
+                self._memo.popitem(last=False)
+        return out  # type: ignore[return-value]
 
     def residual(self, win: Window, effect: Effect | None, params: np.ndarray | None) -> np.ndarray:
         """Prediction minus recording, (n, B, 3), angle converted to metres by sqrt(I/m)."""

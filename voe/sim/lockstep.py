@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import functools
 import math
+from collections import deque
 from collections.abc import Callable
 
 import numpy as np
@@ -34,6 +35,7 @@ _STATE = (_F.POSITION | _F.ANGLE | _F.VELOCITY | _F.ANGULAR_VELOCITY).value  # x
 _GET = ffi.addressof(lib, "pmSpaceBodyGetIteratorFuncBatched")
 _BUFFERS: list[pymunk.batch.Buffer] = []  # reused: pymunk never frees a Buffer's C arrays
 _TOUCH = [False]
+_drain = deque(maxlen=0).extend  # runs an iterator of C calls to its end without a Python loop
 
 
 @ffi.callback("void(cpBody *, cpArbiter *, void *)")
@@ -212,13 +214,13 @@ class _Kick:
     def _contact(self) -> np.ndarray:
         """(W*B,) bool: the body has an arbiter (touches something); computed once per kick."""
         if self._touching is None:
-            out = np.zeros(len(self.ptrs), dtype=bool)
-            each = lib.cpBodyEachArbiter
-            for i, ptr in enumerate(self.ptrs):
-                _TOUCH[0] = False
-                each(ptr, _on_arbiter, ffi.NULL)
-                out[i] = _TOUCH[0]
-            self._touching = out
+            out = []
+            each, touch, cb, null = lib.cpBodyEachArbiter, _TOUCH, _on_arbiter, ffi.NULL
+            for ptr in self.ptrs:
+                touch[0] = False
+                each(ptr, cb, null)
+                out.append(touch[0])
+            self._touching = np.array(out, dtype=bool)
         return self._touching.copy()
 
     def _state(self) -> np.ndarray:
@@ -254,8 +256,7 @@ class _Kick:
             set_v = lib.cpBodySetVelocity
             v_new = (vel + f * self.dt_mass[m]).tolist()  # (N, 2)
             if nz == f.size:
-                for ptr, v in zip(self.ptrs, v_new, strict=True):
-                    set_v(ptr, v)
+                _drain(map(set_v, self.ptrs, v_new))  # every body (the same lengths by construction)
             else:
                 for ptr, v, fb in zip(self.ptrs, v_new, f.tolist(), strict=True):
                     if fb[0] or fb[1]:
@@ -265,8 +266,7 @@ class _Kick:
             set_w = lib.cpBodySetAngularVelocity
             w_new = (st.omega + tau * self.dt[m] / self.moment).tolist()  # (N,)
             if nz == tau.size:
-                for ptr, w in zip(self.ptrs, w_new, strict=True):
-                    set_w(ptr, w)
+                _drain(map(set_w, self.ptrs, w_new))
             else:
                 for ptr, w, tb in zip(self.ptrs, w_new, tau.tolist(), strict=True):
                     if tb:

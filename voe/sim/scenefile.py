@@ -14,6 +14,7 @@ through this simulator matches the exact ODE to about 2 %.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -149,27 +150,31 @@ class SimWorld:
         self.scene = scene
         mat = materials or Materials()
         self.space = pymunk.Space()
-        self.space.gravity = tuple(scene.gravity)
+        # pymunk's setters are these C calls (in this order); called directly, as a fit builds
+        # thousands of worlds (``voe.gap.rollout.run_many``)
+        lib.cpSpaceSetGravity(self.space._space, tuple(scene.gravity))  # noqa: SLF001
         self.bodies: list[pymunk.Body] = []
         for i, spec in enumerate(scene.bodies):
             scale = mat.mass_scale[i] if mat.mass_scale else 1.0
-            body = pymunk.Body(spec.mass * scale, spec.moment_value() * scale)
-            body.position = (float(pose[i, 0]), float(pose[i, 1]))
-            body.angle = float(pose[i, 2])
-            body.velocity = (float(vel[i, 0]), float(vel[i, 1]))
-            body.angular_velocity = float(vel[i, 2])
+            body = pymunk.Body(spec.mass * scale, _moment(spec) * scale)
+            b = body._body  # noqa: SLF001
+            lib.cpBodySetPosition(b, (float(pose[i, 0]), float(pose[i, 1])))
+            lib.cpBodySetAngle(b, float(pose[i, 2]))
+            lib.cpBodySetVelocity(b, (float(vel[i, 0]), float(vel[i, 1])))
+            lib.cpBodySetAngularVelocity(b, float(vel[i, 2]))
             if spec.shape == "circle":
                 shape = pymunk.Circle(body, spec.radius)
             else:
-                shape = pymunk.Poly(body, [tuple(v) for v in spec.local_vertices()])
-            shape.friction = _pick(mat.friction, i, spec.friction)
-            shape.elasticity = _pick(mat.elasticity, i, spec.elasticity)
+                shape = pymunk.Poly(body, _outline(spec))
+            lib.cpShapeSetFriction(shape._shape, _pick(mat.friction, i, spec.friction))  # noqa: SLF001
+            lib.cpShapeSetElasticity(shape._shape, _pick(mat.elasticity, i, spec.elasticity))  # noqa: SLF001
             self.space.add(body, shape)
             self.bodies.append(body)
         for st in scene.statics:
             seg = pymunk.Segment(self.space.static_body, st.a, st.b, st.radius)
-            seg.friction, seg.elasticity = st.friction, st.elasticity
-            seg.collision_type = _STATIC
+            lib.cpShapeSetFriction(seg._shape, st.friction)  # noqa: SLF001
+            lib.cpShapeSetElasticity(seg._shape, st.elasticity)  # noqa: SLF001
+            lib.cpShapeSetCollisionType(seg._shape, _STATIC)  # noqa: SLF001
             self.space.add(seg)
         if mat.region_elasticity is not None:  # chipmunk's own handler, called from C (see _region_pre)
             region = ffi.new("double[3]", mat.region_elasticity)  # e, x0, x1
@@ -292,6 +297,19 @@ def _region_pre(arb: object, space: object, data: object, cast=ffi.cast, exp=mat
     w /= 1.0 + exp(-v)
     seg_e = elasticity(seg)
     arb.e = elasticity(other) * (seg_e + w * (p[0] - seg_e))
+
+
+@functools.lru_cache(maxsize=256)
+def _moment(spec: BodySpec) -> float:
+    """``spec.moment_value()``, remembered per body spec (frozen)."""
+    return spec.moment_value()
+
+
+@functools.lru_cache(maxsize=256)
+def _outline(spec: BodySpec) -> list[tuple[float, float]]:
+    """``spec.local_vertices()`` as the list of tuples ``pymunk.Poly`` takes, remembered per spec
+    (pymunk copies the points into C; the list is not kept)."""
+    return [tuple(v) for v in spec.local_vertices()]
 
 
 def _pick(values: tuple[float | None, ...] | None, i: int, default: float) -> float:

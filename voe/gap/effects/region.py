@@ -13,6 +13,8 @@ region-limited restitution is ``voe.gap.effects.restitution_region`` (set per co
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from voe.gap.effects.base import Effect, FitContext
@@ -28,6 +30,26 @@ def inside(x: np.ndarray, x0: float, x1: float) -> np.ndarray:
     a = np.minimum(np.maximum((x - x0) / EDGE, -50.0), 50.0)
     b = np.minimum(np.maximum((x1 - x) / EDGE, -50.0), 50.0)
     return 1.0 / (1.0 + np.exp(-a)) / (1.0 + np.exp(-b))
+
+
+def inside_at(x0: float, x1: float) -> Callable[[np.ndarray], np.ndarray]:
+    """``inside(x, x0, x1)`` as a function of x (B,), the same values to the bit in 8 numpy calls
+    instead of 16: both edges in one (2, B) array.
+
+    Why exact: the exponents are -a = clip((x - x0) / -EDGE) and -b = clip((x - x1) / EDGE), since
+    negating a difference, a quotient's divisor or a clip with symmetric bounds only flips signs
+    (IEEE rounding is symmetric; a zero's sign does not change exp's 1), and np.exp gives an
+    element the same value in any array (``tests/gap/test_speed4.py``). Only a NaN x (a diverged
+    rollout) may come out as a NaN of the other sign bit, which no later operation can see.
+    """
+    at = np.array([[x0], [x1]], dtype=float)  # (2, 1)
+    den = np.array([[-EDGE], [EDGE]])
+
+    def ins(x: np.ndarray) -> np.ndarray:
+        e = 1.0 + np.exp(np.minimum(np.maximum((x - at) / den, -50.0), 50.0))  # (2, B)
+        return 1.0 / e[0] / e[1]
+
+    return ins
 
 
 class _Region(Effect):
@@ -78,8 +100,33 @@ class FrictionRegion(_Region):
         return f, self._radius * f[:, 0]
 
     def prepare(self, params, scene):
-        self._radius = np.array([b.radius if b.shape == "circle" else 0.0 for b in scene.bodies])
-        return super().prepare(params, scene)
+        """``forces`` with the radii, |g|, -d_mu |g| and the edges' constants computed once.
+
+        Why: on top of a drag, every rollout of round 2 and of the pair step that carries this
+        effect calls it at every kick (about 6 % of ``bench/gap_speed.py``'s CPU). The same
+        operations on the same values in the same order as ``_forces`` (|g| of the state's
+        gravity, recomputed if another array comes), so the same forces to the bit.
+        """
+        p = self.check(params)
+        radius = np.array([b.radius if b.shape == "circle" else 0.0 for b in scene.bodies])
+        self._radius = radius
+        m = self.mask(scene)
+        mf = None if m.all() else m.astype(float)
+        ins = inside_at(p[1], p[2])
+        memo: list = [None, 0.0]  # gravity array, -d_mu |g|
+
+        def force(st: SimState) -> tuple[np.ndarray, np.ndarray]:
+            if memo[0] is not st.gravity:
+                memo[:] = [st.gravity, -p[0] * float(np.linalg.norm(st.gravity))]
+            w = st.contact().astype(float) * ins(st.pos[:, 0])  # (B,)
+            slip = st.vel.copy()
+            slip[:, 0] += st.omega * radius  # contact point below a circle's centre
+            n = np.sqrt(np.add.reduce(slip**2, axis=1, keepdims=True) + _V0**2)  # np.sum's reduction
+            f = memo[1] * (st.mass * w)[:, None] * slip / n
+            tau = radius * f[:, 0]
+            return (f, tau) if mf is None else (f * mf[:, None], tau * mf)
+
+        return force
 
     def forces(self, state, params, scene):
         self._radius = np.array([b.radius if b.shape == "circle" else 0.0 for b in scene.bodies])
@@ -99,3 +146,25 @@ class RollingResistanceRegion(_Region):
         speed = np.linalg.norm(state.vel, axis=1, keepdims=True)
         g = float(np.linalg.norm(state.gravity))
         return -p[0] * g * (state.mass * w)[:, None] * state.vel / np.sqrt(speed**2 + _V0**2), np.zeros_like(state.angle)
+
+    def prepare(self, params, scene):
+        """``forces`` with -c_rr |g|, the edges' constants and the zero torque computed once
+        (as ``FrictionRegion.prepare``; ``np.linalg.norm``'s formula for real arrays written out,
+        as ``QuadraticDrag``), the same forces to the bit."""
+        p = self.check(params)
+        m = self.mask(scene)
+        mf = None if m.all() else m.astype(float)
+        ins = inside_at(p[1], p[2])
+        memo: list = [None, 0.0, None]  # gravity array, -c_rr |g|, zero torque
+
+        def force(st: SimState) -> tuple[np.ndarray, np.ndarray]:
+            if memo[0] is not st.gravity or memo[2].shape != st.angle.shape:
+                memo[:] = [st.gravity, -p[0] * float(np.linalg.norm(st.gravity)), np.zeros_like(st.angle)]
+                memo[2].flags.writeable = False
+            w = st.contact().astype(float) * ins(st.pos[:, 0])  # (B,)
+            v = st.vel
+            speed = np.sqrt(np.add.reduce(v * v, axis=1, keepdims=True))  # (B, 1)
+            f = memo[1] * (st.mass * w)[:, None] * v / np.sqrt(speed**2 + _V0**2)
+            return (f, memo[2]) if mf is None else (f * mf[:, None], memo[2] * mf)
+
+        return force

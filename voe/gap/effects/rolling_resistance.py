@@ -7,6 +7,8 @@ and the surface), which a rigid-body contact does not produce. The direction is 
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from voe.gap.effects.base import Effect, FitContext
@@ -31,6 +33,25 @@ class RollingResistance(Effect):
         g = float(np.linalg.norm(state.gravity))
         f = -p[0] * g * (state.mass * touching)[:, None] * state.vel / np.sqrt(speed**2 + _V0**2)
         return f, np.zeros_like(state.angle)
+
+    def prepare(self, params: np.ndarray, scene: SceneSpec) -> Callable[[SimState], tuple[np.ndarray, np.ndarray]]:
+        """``_forces`` with -c_rr |g| and the zero torque kept while the state brings the same
+        gravity and shape (the same operations in the same order: the same forces to the bit)."""
+        p = self.check(params)
+        m = self.mask(scene)
+        mf = None if m.all() else m.astype(float)
+        memo: list = [None, 0.0, None]  # gravity array, -c_rr |g|, zero torque
+
+        def force(st: SimState) -> tuple[np.ndarray, np.ndarray]:
+            if memo[0] is not st.gravity or memo[2].shape != st.angle.shape:
+                memo[:] = [st.gravity, -p[0] * float(np.linalg.norm(st.gravity)), np.zeros_like(st.angle)]
+                memo[2].flags.writeable = False
+            v = st.vel
+            speed = np.sqrt(np.add.reduce(v * v, axis=1, keepdims=True))
+            f = memo[1] * (st.mass * st.contact().astype(float))[:, None] * v / np.sqrt(speed**2 + _V0**2)
+            return (f, memo[2]) if mf is None else (f * mf[:, None], memo[2] * mf)
+
+        return force
 
     def starts(self, ctx: FitContext) -> list[np.ndarray]:
         return [np.array([0.001])]
