@@ -18,6 +18,7 @@ from collections.abc import Callable
 import numpy as np
 
 from voe.gap.effects.base import Effect, FitContext
+from voe.gap.effects.rolling_resistance import rolling_force
 from voe.sim.scenefile import SceneSpec, SimState
 
 EDGE = 0.01  # m, smoothing of the interval's edges
@@ -149,22 +150,8 @@ class RollingResistanceRegion(_Region):
 
     def prepare(self, params, scene):
         """``forces`` with -c_rr |g|, the edges' constants and the zero torque computed once
-        (as ``FrictionRegion.prepare``; ``np.linalg.norm``'s formula for real arrays written out,
-        as ``QuadraticDrag``), the same forces to the bit."""
+        (``rolling_resistance.rolling_force``, weighted by the contact test times ``inside_at``),
+        the same forces to the bit."""
         p = self.check(params)
-        m = self.mask(scene)
-        mf = None if m.all() else m.astype(float)
         ins = inside_at(p[1], p[2])
-        memo: list = [None, 0.0, None]  # gravity array, -c_rr |g|, zero torque
-
-        def force(st: SimState) -> tuple[np.ndarray, np.ndarray]:
-            if memo[0] is not st.gravity or memo[2].shape != st.angle.shape:
-                memo[:] = [st.gravity, -p[0] * float(np.linalg.norm(st.gravity)), np.zeros_like(st.angle)]
-                memo[2].flags.writeable = False
-            w = st.contact().astype(float) * ins(st.pos[:, 0])  # (B,)
-            v = st.vel
-            speed = np.sqrt(np.add.reduce(v * v, axis=1, keepdims=True))  # (B, 1)
-            f = memo[1] * (st.mass * w)[:, None] * v / np.sqrt(speed**2 + _V0**2)
-            return (f, memo[2]) if mf is None else (f * mf[:, None], memo[2] * mf)
-
-        return force
+        return rolling_force(p[0], self.mask(scene), lambda st: st.contact().astype(float) * ins(st.pos[:, 0]))

@@ -37,21 +37,7 @@ class RollingResistance(Effect):
     def prepare(self, params: np.ndarray, scene: SceneSpec) -> Callable[[SimState], tuple[np.ndarray, np.ndarray]]:
         """``_forces`` with -c_rr |g| and the zero torque kept while the state brings the same
         gravity and shape (the same operations in the same order: the same forces to the bit)."""
-        p = self.check(params)
-        m = self.mask(scene)
-        mf = None if m.all() else m.astype(float)
-        memo: list = [None, 0.0, None]  # gravity array, -c_rr |g|, zero torque
-
-        def force(st: SimState) -> tuple[np.ndarray, np.ndarray]:
-            if memo[0] is not st.gravity or memo[2].shape != st.angle.shape:
-                memo[:] = [st.gravity, -p[0] * float(np.linalg.norm(st.gravity)), np.zeros_like(st.angle)]
-                memo[2].flags.writeable = False
-            v = st.vel
-            speed = np.sqrt(np.add.reduce(v * v, axis=1, keepdims=True))
-            f = memo[1] * (st.mass * st.contact().astype(float))[:, None] * v / np.sqrt(speed**2 + _V0**2)
-            return (f, memo[2]) if mf is None else (f * mf[:, None], memo[2] * mf)
-
-        return force
+        return rolling_force(self.check(params)[0], self.mask(scene), lambda st: st.contact().astype(float))
 
     def starts(self, ctx: FitContext) -> list[np.ndarray]:
         return [np.array([0.001])]
@@ -64,3 +50,26 @@ class RollingResistance(Effect):
 
     def bench_prior(self, scene: SceneSpec, rng: np.random.Generator) -> tuple[np.ndarray, tuple[str, ...] | None]:
         return np.array([rng.uniform(0.03, 0.1)]), None
+
+
+def rolling_force(c_rr: float, mask: np.ndarray, weight: Callable[[SimState], np.ndarray]
+                  ) -> Callable[[SimState], tuple[np.ndarray, np.ndarray]]:
+    """The rolling-resistance force law -c_rr |g| m w v / sqrt(|v|^2 + V0^2) with -c_rr |g| and the
+    zero torque computed once per gravity array and shape; ``weight(st)`` (B,) says where it acts
+    (the contact test, times the region's profile for ``rolling_resistance_region``), ``mask`` (B,)
+    which bodies it applies to. One closure for both effects' ``prepare``: the same operations in
+    the same order as their ``_forces``, so the same forces to the bit (``tests/gap/test_speed4.py``)."""
+    mf = None if mask.all() else mask.astype(float)
+    memo: list = [None, 0.0, None]  # gravity array, -c_rr |g|, zero torque
+
+    def force(st: SimState) -> tuple[np.ndarray, np.ndarray]:
+        if memo[0] is not st.gravity or memo[2].shape != st.angle.shape:
+            memo[:] = [st.gravity, -c_rr * float(np.linalg.norm(st.gravity)), np.zeros_like(st.angle)]
+            memo[2].flags.writeable = False
+        w = weight(st)  # (B,)
+        v = st.vel  # (B, 2)
+        speed = np.sqrt(np.add.reduce(v * v, axis=1, keepdims=True))  # (B, 1)
+        f = memo[1] * (st.mass * w)[:, None] * v / np.sqrt(speed**2 + _V0**2)
+        return (f, memo[2]) if mf is None else (f * mf[:, None], memo[2] * mf)
+
+    return force
