@@ -63,6 +63,9 @@ class SearchResult:
     model: FitResult | None
     rounds: tuple[Round, ...]
     keys: tuple[str, ...]  # candidate key of each accepted part, in order
+    # (W,) the nominal model's selection errors: the check judges what it leaves against them
+    # (``voe.gap.check.short_of_nominal``) without simulating them again
+    nominal_sse: np.ndarray | None = None
 
     @property
     def groups(self) -> list[list[str]]:
@@ -86,7 +89,7 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
     paired = null if isinstance(null, NullSearch) else None
     threshold = null.threshold if paired is not None else null
     current: FitResult | None = None
-    before_sse = fitter.heldout_sse()
+    before_sse = nominal_sse = fitter.heldout_sse()
     rounds: list[Round] = []
     keys: list[str] = []
     pool = dict(candidates)
@@ -186,7 +189,7 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
             on_model(as_sum(current))
         if not pool:
             break
-    return SearchResult(as_sum(current) if current is not None else None, tuple(rounds), tuple(keys))
+    return SearchResult(as_sum(current) if current is not None else None, tuple(rounds), tuple(keys), nominal_sse)
 
 
 @dataclass(frozen=True)
