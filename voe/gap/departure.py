@@ -34,8 +34,8 @@ from scipy.stats import ttest_1samp, wilcoxon
 
 from voe.gap.locate import window_z
 from voe.gap.recordings import Episode
-from voe.gap.shooting import Shooter, Window, local_state
-from voe.gap.synth import pose_noise, simulate_episode
+from voe.gap.shooting import Shooter, Window
+from voe.gap.synth import nominal_motion, pose_noise
 from voe.sim.scenefile import SceneSpec
 
 ALPHA = 0.01  # one located case in a hundred clean ones may be called unexplained
@@ -112,11 +112,8 @@ def more_replicates(scene: SceneSpec, episodes: list[Episode], sigma: np.ndarray
     AR(1) ``phi`` (B, 3)), so every replicate is exchangeable with the data under the nominal
     model exactly as the first is. The motion is simulated once; only the noise is redrawn.
     """
-    motion = []
-    for ep in episodes:
-        pose0, vel0, _ = local_state(ep, 0)
-        motion.append(simulate_episode(scene, ep.id, ep.t, pose0, vel0, None, None, np.zeros_like(sigma), rng,
-                                       substep).pose)  # (T, B, 3) noise-free
+    zero = np.zeros_like(sigma)  # noise-free, drawing what ``simulate_episode`` draws (the same rng state after)
+    motion = [m + pose_noise(m.shape, zero, 0.0, rng) for m in nominal_motion(scene, episodes, substep)]  # (T, B, 3)
     out = []
     for _ in range(n):
         eps = [Episode(ep.id, ep.t.copy(), m + pose_noise(m.shape, sigma, phi, rng))

@@ -12,6 +12,7 @@ import numpy as np
 from voe.gap.effects.base import Effect
 from voe.gap.recordings import Episode
 from voe.gap.shooting import local_state
+from voe.sim.lockstep import run_lockstep
 from voe.sim.scenefile import SceneSpec, SimWorld
 
 
@@ -52,9 +53,22 @@ def pose_noise(shape: tuple[int, ...], sigma: np.ndarray, phi: np.ndarray | floa
 def null_like(scene: SceneSpec, episodes: list[Episode], sigma: np.ndarray, rng: np.random.Generator,
               substep: float, phi: np.ndarray | float = 0.0) -> list[Episode]:
     """Clean copies of ``episodes``: nominal simulation from each one's estimated initial state,
-    with the data's noise model (``voe.gap.shooting.noise_model``)."""
-    out = []
+    with the data's noise model (``voe.gap.shooting.noise_model``); the same episodes as
+    ``simulate_episode`` makes one by one (the same motion, then the noise drawn in episode order)."""
+    return [Episode(ep.id, ep.t.copy(), m + pose_noise(m.shape, sigma, phi, rng))
+            for ep, m in zip(episodes, nominal_motion(scene, episodes, substep), strict=True)]
+
+
+def nominal_motion(scene: SceneSpec, episodes: list[Episode], substep: float) -> list[np.ndarray]:
+    """(T, B, 3) noise-free nominal poses of each episode from its estimated initial state.
+
+    Why not ``SimWorld.run`` one episode after the other: all episodes stepped side by side
+    (``voe.sim.lockstep``) take the same substeps in C, each exactly as ``SimWorld.run`` steps
+    it alone, without pymunk's ``Space.step`` wrapper around every substep. The clean replicate
+    is simulated before the search can start, so its time is wall time.
+    """
+    worlds = []
     for ep in episodes:
         pose0, vel0, _ = local_state(ep, 0)
-        out.append(simulate_episode(scene, ep.id, ep.t, pose0, vel0, None, None, sigma, rng, substep, phi))
-    return out
+        worlds.append(SimWorld(scene, pose0, vel0))
+    return run_lockstep(worlds, [ep.t for ep in episodes], substep)

@@ -20,6 +20,7 @@ import functools
 import math
 from collections import deque
 from collections.abc import Callable
+from typing import NamedTuple
 
 import numpy as np
 import pymunk.batch
@@ -95,39 +96,76 @@ def run_lockstep(worlds: list[SimWorld], times: list[np.ndarray], substep: float
     nw = len(worlds)
     if not nw:
         return []
-    plans = [_plan(np.ascontiguousarray(t, dtype=float).tobytes(), float(substep)) for t in times]
-    hs = [h for h, _, _ in plans]
-    lengths = [len(h) for h in hs]
+    keys = [(np.ascontiguousarray(t, dtype=float).tobytes(), float(substep)) for t in times]
+    plans = [_plan(*k) for k in keys]
+    lengths = [len(h) for h, _, _ in plans]
     rows = _rows(worlds)
     bufs = _buffers(nw + 1)  # one per world's poses, one for the kicks' states
     poses = [_Reader(w.space, b, _POSE) for w, b in zip(worlds, bufs, strict=False)]
     for r in poses:
         r.reset()
         r.read()  # the start pose
-    record: dict[int, list[int]] = {}  # substep index -> worlds that record a sample after it
-    for i, (_, ends, _) in enumerate(plans):
-        for e in ends:
-            record.setdefault(e - 1, []).append(i)
-    order = sorted(range(nw), key=lambda i: -lengths[i])  # worlds still stepping are a prefix of this
-    active = [(worlds[i].space._space, hs[i]) for i in order]  # noqa: SLF001
-    ends_at = [lengths[i] for i in order]
     k_kick = max(1, round(kick_every / substep))
     kick = _Kick(worlds, force, bufs[nw], rows, _kick_dts([a for _, _, a in plans], lengths, k_kick)) if force is not None else None
-    step = lib.cpSpaceStep
-    for j in range(max(lengths)):
-        while ends_at[-1] <= j:  # the shortest window is done
-            ends_at.pop()
-            active.pop()
-        if kick is not None and j % k_kick == 0:
-            kick(j // k_kick)
-        for space, h in active:
-            step(space, h[j])
-        done = record.get(j)
-        if done:
-            for i in done:
-                poses[i].read()
+    sched = _segments(tuple(keys), k_kick if kick is not None else 0)
+    spaces = [worlds[i].space._space for i in sched.order]  # noqa: SLF001
+    step, drain, hs = lib.cpSpaceStep, _drain, sched.h
+    repeated: dict[tuple[int, int], list] = {}  # (worlds, substeps) -> each space that many times in a row
+    for a, n_act, n_sub, lo, hi, reads in sched.segments:
+        if kick is not None and a % k_kick == 0:
+            kick(a // k_kick)
+        args = repeated.get((n_act, n_sub))
+        if args is None:
+            args = repeated[n_act, n_sub] = [s for s in spaces[:n_act] for _ in range(n_sub)]
+        drain(map(step, args, hs[lo:hi]))
+        for i in reads:
+            poses[i].read()
     nb = len(worlds[0].bodies)
     return [r.array(rows, 3)[:, :nb].copy() for r in poses]
+
+
+class _Schedule(NamedTuple):
+    """The substeps of a lockstep rollout, cut where anything else happens (``_segments``)."""
+
+    order: tuple[int, ...]  # worlds, longest first: the worlds still stepping are a prefix
+    h: list[float]  # every substep of every segment, world after world within a segment
+    segments: tuple[tuple[int, int, int, int, int, tuple[int, ...]], ...]  # (first substep, worlds
+    # stepping, substeps each, slice of ``h``, worlds that record a sample after the segment)
+
+
+@functools.lru_cache(maxsize=64)  # a fit simulates the same windows side by side dozens of times
+def _segments(keys: tuple[tuple[bytes, float], ...], k_kick: int) -> _Schedule:
+    """The rollout of the windows with ``_plan`` keys ``keys`` as segments of substeps between
+    events (a kick every ``k_kick`` substeps, 0 for none; a sample read; a window's end).
+
+    Why: within a segment nothing but stepping happens, and the worlds are independent spaces,
+    so each world can take the segment's substeps one after the other, all of them in one
+    ``map`` over chipmunk's ``cpSpaceStep``, instead of one Python loop turn per substep and
+    world. Each world still takes exactly its own substeps in its own order, with the kicks
+    and reads between the same two substeps as ``SimWorld.run``, so the poses are the same.
+    """
+    plans = [_plan(*k) for k in keys]
+    lengths = [len(h) for h, _, _ in plans]
+    order = tuple(sorted(range(len(keys)), key=lambda i: -lengths[i]))
+    n = max(lengths)
+    record: dict[int, list[int]] = {}  # boundary after substep e - 1 -> worlds that read a sample there
+    for i, (_, ends, _) in enumerate(plans):
+        for e in ends:
+            record.setdefault(e, []).append(i)
+    cuts = set(record) | set(lengths) | {0, n}
+    if k_kick:
+        cuts |= set(range(0, n, k_kick))
+    cuts_s = sorted(c for c in cuts if 0 <= c <= n)
+    hs = [plans[i][2] for i in order]
+    flat: list[float] = []
+    segs = []
+    for a, b in zip(cuts_s[:-1], cuts_s[1:], strict=True):
+        n_act = sum(1 for i in order if lengths[i] > a)
+        lo = len(flat)
+        for h in hs[:n_act]:
+            flat.extend(h[a:b].tolist())
+        segs.append((a, n_act, b - a, lo, len(flat), tuple(record.get(b, ()))))
+    return _Schedule(order, flat, tuple(segs))
 
 
 def _kick_dts(hs: list, lengths: list[int], k_kick: int) -> np.ndarray:

@@ -1,0 +1,80 @@
+"""The check's last rule: a model the check built (drops, substitutions) must beat the nominal
+model on the selection windows as a whole, as the search asks of every model it accepts."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+import voe.gap.check as check
+from voe.gap.effects import EFFECTS
+from voe.gap.effects.base import EffectSum
+from voe.gap.fit import FitResult
+from voe.gap.greedy import SearchResult
+from voe.gap.search import Round
+from voe.gap.stages import GapConfig
+
+# development case 4593205 (clean, white): friction alone against the nominal model, per selection
+# window half log RMSE ratio; one window carries the whole gain
+CLEAN_4593205 = np.array([0.07, 0.0, 0.0, 0.33, 0.0, 0.0, -1.14, 0.0, 0.0])
+
+
+def _sse(half_log: np.ndarray) -> np.ndarray:
+    return np.exp(2 * half_log)  # (W,) against a nominal SSE of 1 per window
+
+
+def test_a_gain_carried_by_one_window_is_short_of_the_nominal():
+    model = FitResult(EffectSum((EFFECTS.get("friction")(),)), np.array([0.56]), 0, 0, _sse(CLEAN_4593205))
+    # gain 1 - exp(mean) = 7.9 %: above the 5 % threshold, but not with a positive 5 % quantile
+    why = check.short_of_nominal(model, np.ones(9), 0.05, 0.05)
+    assert why is not None and "gains 7.9 %" in why and "friction" in why
+    assert check.short_of_nominal(model, np.ones(9), 0.05, None) is None  # the threshold alone lets it pass
+    assert check.short_of_nominal(model, np.ones(9), 0.08, None) is not None
+
+
+def test_a_gain_in_every_window_beats_the_nominal():
+    model = FitResult(EffectSum((EFFECTS.get("point_attractor")(),)), np.array([1.4, 1.0, 1.9]), 0, 0,
+                      _sse(np.full(9, -0.5)))  # 39 % in every window
+    assert check.short_of_nominal(model, np.ones(9), 0.05, 0.05) is None
+    small = FitResult(model.effect, model.params, 0, 0, _sse(np.full(9, -0.03)))  # 3 %, quantile positive
+    assert check.short_of_nominal(small, np.ones(9), 0.05, 0.05) is not None
+
+
+def _check(monkeypatch: pytest.MonkeyPatch, left_sse: np.ndarray):
+    """check_step on a two-part search model (linear_drag, then quadratic_drag) whose first part is
+    not established; ``left_sse`` (W,) is what quadratic_drag alone leaves on the selection windows."""
+    drag, quad = EFFECTS.get("linear_drag")(), EFFECTS.get("quadratic_drag")()
+    both = FitResult(EffectSum((drag, quad)), np.array([0.01, 0.2]), 0, 0, np.full(9, 0.25))
+
+    def refit(eff, starts, nfev):  # the selection errors of whatever is left
+        names = [e.name for e in eff.parts]
+        sse = {("linear_drag",): np.full(9, 0.9), ("quadratic_drag",): left_sse}[tuple(names)]
+        return FitResult(eff, starts[0], 0, 0, sse, tuple(starts))
+
+    def intervals(p, fit_ids, model, ctx, config, seed):  # linear_drag's holds 0, quadratic_drag's not
+        lo = np.array([0.1 if e.name == "quadratic_drag" else -0.1 for e in model.effect.parts])
+        return lo, lo + 0.2
+
+    monkeypatch.setattr(check, "fit_context", lambda p, ids=None: None)
+    monkeypatch.setattr(check, "model_intervals", intervals)
+    monkeypatch.setattr(check, "verify_on_test", lambda p, model, config, z: (None, "test"))
+    rounds = (Round(0.01, {}, {}, {}, 0.05, "linear_drag", ("linear_drag",)),
+              Round(0.01, {}, {}, {}, 0.05, "quadratic_drag", ("quadratic_drag",)))
+    s = SimpleNamespace(result=SearchResult(both, rounds, ("linear_drag", "quadratic_drag"), np.ones(9)),
+                        fitter=SimpleNamespace(refit=refit, config=SimpleNamespace(refine_nfev=10)))
+    p = SimpleNamespace(split=SimpleNamespace(fit=(0, 1)))
+    return check.check_step(p, SimpleNamespace(z_threshold=5.0), s, GapConfig(), 0)
+
+
+def test_what_the_check_leaves_is_dropped_if_it_does_not_beat_the_nominal(monkeypatch):
+    c = _check(monkeypatch, _sse(CLEAN_4593205))  # the pattern of 4593205's friction
+    assert c.model is None and c.keys == ()
+    assert [d["effect"] for d in c.dropped] == ["linear_drag", "quadratic_drag"]
+    assert "against the nominal model on the selection windows" in c.dropped[1]["reason"]
+
+
+def test_what_the_check_leaves_is_kept_if_it_beats_the_nominal(monkeypatch):
+    c = _check(monkeypatch, _sse(np.full(9, -0.5)))
+    assert c.keys == ("quadratic_drag",) and [d["effect"] for d in c.dropped] == ["linear_drag"]
