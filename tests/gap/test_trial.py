@@ -139,33 +139,3 @@ def test_an_undone_trial_falls_back_to_the_pair_step_on_its_round():
     null = NullSearch(_PairFitter({"": base}, names), cands, alpha=0.05, min_gain=0.05, seed=0)
     res = greedy(_PairFitter(data, names), cands, null, 3, set(), 1e-3)
     assert res.keys == () and res.model is None
-
-
-def test_a_region_whose_edges_do_not_beat_its_global_form_is_named_global():
-    """The edges of a region effect must beat its global form as a winner beats the model before
-    it (``voe.gap.search.beats_global``): 4593089, a true global rolling resistance whose region
-    form won by one chaotic window."""
-    from voe.gap.greedy import greedy
-    from voe.gap.search import beats_global, gain_lower_bound, window_gain
-
-    base = np.ones(20)
-    plain = np.r_[np.full(4, 0.05), np.full(16, 1.02)]  # (W,) the global form: 4 windows far better
-    one = plain.copy()
-    one[0] = 1e-6  # the region: the same, and far better again in one window
-    assert (1 - window_gain(base, one)) * 1.1 < 1 - window_gain(base, plain)  # not one group: the region wins
-    assert window_gain(plain, one) > 0.1 and not beats_global(plain, one, 0.1)  # carried by one window
-    cands = {k: EFFECTS.get(k)() for k in ("rolling_resistance_region", "rolling_resistance")}
-    table = {"": base, "rolling_resistance": plain, "rolling_resistance_region": one}
-    res = greedy(_TableFitter(table), cands, lambda r: 0.1, 1, set(), 1e-3)
-    assert res.keys == ("rolling_resistance",) and res.rounds[0].group[0] == "rolling_resistance"
-    assert "does not beat rolling_resistance" in res.rounds[0].basis
-    # a real patch: better than the global form in every window (whose own lower bound is not
-    # positive, so neither ``covers_contacts`` nor the tie rule is asked)
-    plain = np.r_[np.full(4, 0.05), np.full(16, 1.5)]
-    assert window_gain(base, plain) > 0.1 and gain_lower_bound(base, plain) <= 0
-    patch = 0.5 * plain
-    assert beats_global(plain, patch, 0.1)
-    table.update({"rolling_resistance": plain, "rolling_resistance_region": patch})
-    res = greedy(_TableFitter(table), cands, lambda r: 0.1, 1, set(), 1e-3)
-    assert res.keys == ("rolling_resistance_region",)
-

@@ -41,7 +41,6 @@ from voe.gap.search import (
     Round,
     RoundTask,
     accept_all,
-    beats_global,
     bound_limit,
     choose,
     covers_contacts,
@@ -154,8 +153,10 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
         winner, kept, basis, tie = (group[0], (group[0],), "alone", None) if len(group) == 1 else \
             tie_break(fitter, group, results, pool, contexts() if callable(contexts) else contexts, gains, noise)
         plain = pool[winner].global_name
-        if plain in results and gains[plain] > thr:
-            why = _no_edges(fitter, winner, plain, results, lower, thr, q, kept, tie, pool, basis)
+        if plain in results and gains[plain] > thr and lower.get(plain, 1.0) > 0:
+            why = f"{winner}'s interval holds every contact" if covers_contacts(fitter, results[winner]) else \
+                f"{winner} is {plain} limited to an interval and predicts no better ({basis})" \
+                if tie_keeps_global(winner, kept, tie, pool) else None
             if why:
                 kept = (plain,) + tuple(k for k in kept if k != plain)
                 winner, basis, tie = plain, f"{why}: named {plain}, the whole floor", None
@@ -258,28 +259,6 @@ class Trial:
 
     def refused(self, by: str) -> str:
         return f"{by} won, but with {self.round.winner} it does not beat the model before the trial: both undone"
-
-
-def _no_edges(fitter: FoldedFitter, winner: str, plain: str, results: dict[str, FitResult], lower: dict[str, float],
-              thr: float, q: float, kept: tuple[str, ...], tie, pool: dict[str, Effect], basis: str) -> str | None:
-    """Why a region winner is to be named by its global form ``plain`` (which beat the round's
-    threshold ``thr`` too), or None if the data need its edges.
-
-    The edges must earn their place against the global form as any winner against the model
-    before it (``voe.gap.search.beats_global``); and even when they do, a global form that
-    passed on its own (lower bound positive) is named if the interval holds every contact
-    sample (``covers_contacts``) or the two are indistinguishable in the tie-break
-    (``tie_keeps_global``).
-    """
-    if not beats_global(results[plain].window_sse, results[winner].window_sse, thr, q):
-        return f"{winner} does not beat {plain} by the round's threshold with a positive lower bound"
-    if lower.get(plain, 1.0) <= 0:
-        return None
-    if covers_contacts(fitter, results[winner]):
-        return f"{winner}'s interval holds every contact"
-    if tie_keeps_global(winner, kept, tie, pool):
-        return f"{winner} is {plain} limited to an interval and predicts no better ({basis})"
-    return None
 
 
 def _pair_after_trial(fitter: FoldedFitter, trial: Trial, rounds: list[Round], current: FitResult | None,

@@ -289,25 +289,6 @@ def tie_keeps_global(winner: str, kept: tuple[str, ...], tie: TieBreak | None, c
     return tie is None or plain not in tie.unproven
 
 
-def beats_global(global_sse: np.ndarray, region_sse: np.ndarray, threshold: float, q: float = 0.05) -> bool:
-    """Whether a region effect beats its own global form (``global_name``) on the selection
-    windows as any winner must beat the model before it: gain above the round's ``threshold``
-    and a positive bootstrap ``q`` quantile. Both are (W,) per-window errors of the same round.
-
-    Why: a region effect is its global form plus two edges (x0 -> -inf, x1 -> +inf gives it
-    back), so the global form is the model the edges must improve on, and they cost two
-    parameters that can fit one chaotic window. Development case 4593089 (a true global
-    ``rolling_resistance``, c = 0.097, fitted 0.104): ``rolling_resistance_region`` (c = 0.105
-    over x -1.08..3.73 m, 97 % of the contact samples) gained 48.3 % and the global form 39.3 %,
-    10 points apart, so no group held both; all of the difference came from one of the 7
-    selection windows (half log RMSE ratio region against global -1.31: the ball's spin after
-    a bounce at x = -1.22 m, where the region switched the force off), and the region was worse
-    in two others (+0.17, +0.02). Its 5 % bootstrap quantile against the global form is
-    negative: the edges are not established, and the whole floor is the honest name.
-    """
-    return bool(window_gain(global_sse, region_sse) > threshold and gain_lower_bound(global_sse, region_sse, q=q) > 0)
-
-
 def bound_limit(fitter: FoldedFitter, winner: str, kept: tuple[str, ...], results: dict[str, FitResult],
                 candidates: dict[str, Effect]) -> str | None:
     """The key of the winner's nested limit (``Effect.limit_name``) if the winner's fit sits at
