@@ -13,7 +13,7 @@ from voe.gap.effects import EFFECTS
 from voe.gap.effects.base import EffectSum
 from voe.gap.fit import FitResult
 from voe.gap.greedy import SearchResult
-from voe.gap.search import Round
+from voe.gap.search import Round, gain_lower_bound
 from voe.gap.stages import GapConfig
 
 # development case 4593205 (clean, white): friction alone against the nominal model, per selection
@@ -78,3 +78,14 @@ def test_what_the_check_leaves_is_dropped_if_it_does_not_beat_the_nominal(monkey
 def test_what_the_check_leaves_is_kept_if_it_beats_the_nominal(monkeypatch):
     c = _check(monkeypatch, _sse(np.full(9, -0.5)))
     assert c.keys == ("quadratic_drag",) and [d["effect"] for d in c.dropped] == ["linear_drag"]
+
+
+def test_an_effect_felt_in_few_windows_is_kept_when_its_quantile_is_exactly_zero():
+    # development case 2758072's pattern: a mass changes 2 of 6 selection windows and leaves the
+    # others exactly as they were, so resamples without those two gain exactly 0 (8.8 % of them)
+    model = FitResult(EffectSum((EFFECTS.get("mass")(),)), np.array([1.3]), 0, 0,
+                      _sse(np.array([-1.2, 0.0, 0.0, -0.9, 0.0, 0.0])))
+    assert gain_lower_bound(np.ones(6), model.window_sse, q=0.05) == 0.0
+    assert check.short_of_nominal(model, np.ones(6), 0.10, 0.05) is None
+    worse = FitResult(model.effect, model.params, 0, 0, _sse(np.array([-1.2, 0.05, 0.0, -0.9, 0.0, 0.0])))
+    assert check.short_of_nominal(worse, np.ones(6), 0.10, 0.05) is not None  # one window worse: negative

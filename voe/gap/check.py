@@ -138,7 +138,7 @@ def check_step(p: Problem, loc: Location, s: Search, config: GapConfig, seed: in
 def short_of_nominal(model: FitResult, nominal_sse: np.ndarray, threshold: float, lower_q: float | None) -> str | None:
     """Why ``model``, as a whole, does not beat the nominal model on the selection windows as the
     search requires of every model it accepts (gain above the first round's null threshold
-    ``threshold`` and, with ``lower_q`` set, the gain's bootstrap ``lower_q`` quantile positive);
+    ``threshold`` and, with ``lower_q`` set, the gain's bootstrap ``lower_q`` quantile not negative);
     None if it does.
 
     Why: the parts the check drops and the group members it puts in their place
@@ -152,15 +152,26 @@ def short_of_nominal(model: FitResult, nominal_sse: np.ndarray, threshold: float
     is -11 % and no round would have accepted it. The right answer a substitution rescues passes
     easily (development case 6263021: ``point_attractor`` in place of ``spring_anchor``, 48 % in
     its round). The selection windows decide; the test episodes stay held out for the figure.
+
+    The quantile must not be negative rather than positive: an effect that changes only a few
+    windows (a mass, felt only in collisions) leaves every other window's error exactly as it
+    was, so every resample without one of its windows gains exactly 0, and when such resamples
+    are more than ``lower_q`` of them the quantile is exactly 0. The search keeps such a model
+    too (provisional, then kept when nothing refutes it: ``voe.gap.greedy.Trial.last``).
+    Development case 2758072 (a true ``mass``, felt in 2 of 6 selection windows): with a
+    positive quantile required, ``mass[ball]`` left after ``friction`` was dropped gained 57.5 %
+    with a quantile of exactly 0.0 % and was dropped; kept, it is named (parameter error 0.7 %,
+    test RMSE 74 -> 2.6 mm). 4593205's -11.1 % is still refused, and twelve clean cases with
+    drops on four seeds stay ``consistent``.
     """
     gain = window_gain(nominal_sse, model.window_sse)
     lower = gain_lower_bound(nominal_sse, model.window_sse, q=lower_q) if lower_q else None
-    if gain > threshold and (lower is None or lower > 0):
+    if gain > threshold and (lower is None or lower >= 0):  # exactly 0: see above
         return None
     bound = "" if lower is None else f", its {100 * lower_q:.0f} % bootstrap quantile {100 * lower:.1f} %"
     return (f"what the check left, {' + '.join(p.name for p in model.effect.parts)}, gains {100 * gain:.1f} % against "
             f"the nominal model on the selection windows{bound}: short of what the search asks of any model "
-            f"(above the first round's threshold {100 * threshold:.1f} %" + (", quantile positive)" if lower_q else ")"))
+            f"(above the first round's threshold {100 * threshold:.1f} %" + (", quantile not negative)" if lower_q else ")"))
 
 
 def _alternative(s: Search, rnd: Round | None, tried: set[str], rest: Effect | None,
