@@ -25,7 +25,7 @@ from voe.gap.effects.base import Effect, EffectSum, FitContext
 from voe.gap.fit import FitResult
 from voe.gap.folds import as_sum, without
 from voe.gap.parametric import replicate_errors
-from voe.gap.profile import profile_interval
+from voe.gap.profile import nominal_side, profile_interval
 from voe.gap.search import Round, gain_lower_bound, window_gain
 from voe.gap.stages import GapConfig, Location, Problem, Search, fit_context, fit_windows
 from voe.gap.uncertainty import established, intervals
@@ -54,18 +54,27 @@ def model_intervals(p: Problem, fit_ids: tuple[int, ...], model: FitResult, ctx:
     bounded range there (no window's prediction moves at the fit) is scanned instead
     (``voe.gap.profile``) on the fitting and selection episodes' windows (development case
     7857016: the box slid in one of 11 fitting windows, too few to rule anything out, and in
-    several of the selection windows). One place for the check and the drift step, so both judge
-    "established" on the same interval."""
+    several of the selection windows). A part the interval leaves not established has each
+    nominal value its interval holds asked directly on the same windows
+    (``voe.gap.profile.nominal_side``: the local interval linearises a hinge; development cases
+    2758081, 4593094). One place for the check and the drift step, so both judge "established"
+    on the same interval."""
     errors = replicate_errors(p, fit_ids, config.fit_window, model.effect, model.params, ctx, config.fit.f_scale,
                               seed)
     windows = fit_windows(p, fit_ids, config)
     lo, hi = intervals(p.shooter, p.sigma, windows, model.effect, model.params, ctx, config.fit.f_scale, seed, errors)
     b_lo, b_hi = model.effect.bounds(ctx)
-    blind = (lo <= b_lo) & (hi >= b_hi) & np.isfinite(model.effect.nominal(ctx))  # (P,) whole range: no information
+    nom = model.effect.nominal(ctx)  # (P,)
+    blind = (lo <= b_lo) & (hi >= b_hi) & np.isfinite(nom)  # (P,) whole range: no information
+    weak = np.concatenate([np.full(e.n_params, not ok) for e, ok in zip(model.effect.parts,
+                                                                         established(model.effect, lo, hi, ctx), strict=True)])
+    held = weak & ~blind & np.isfinite(nom) & (lo <= nom) & (nom <= hi)  # (P,) a part not established: its nominal values
     scan = fit_windows(p, tuple(fit_ids) + tuple(i for i in p.split.select if i not in fit_ids), config) \
-        if blind.any() else []  # the selection episodes too: they accept effects, and a sparse one needs them
+        if (blind | held).any() else []  # the selection episodes too: they accept effects, and a sparse one needs them
     for j in np.flatnonzero(blind):  # flat at the fit is not flat everywhere (voe.gap.profile)
         lo[j], hi[j] = profile_interval(p.shooter, scan, model.effect, model.params, int(j), ctx)
+    for j in np.flatnonzero(held):  # linear at the fit is not linear everywhere: the nominal value asked directly
+        lo[j], hi[j] = nominal_side(p.shooter, scan, model.effect, model.params, int(j), ctx, float(lo[j]), float(hi[j]))
     return lo, hi
 
 
