@@ -55,9 +55,9 @@ def model_intervals(p: Problem, fit_ids: tuple[int, ...], model: FitResult, ctx:
     (``voe.gap.profile``) on the fitting and selection episodes' windows (development case
     7857016: the box slid in one of 11 fitting windows, too few to rule anything out, and in
     several of the selection windows). A part the interval leaves not established has each
-    nominal value its interval holds asked directly on the same windows
-    (``voe.gap.profile.nominal_side``: the local interval linearises a hinge; development cases
-    2758081, 4593094). One place for the check and the drift step, so both judge "established"
+    nominal value its interval holds asked directly, on the fitting and on the selection windows
+    separately (``voe.gap.profile.nominal_side``: the local interval linearises a hinge;
+    development cases 2758081, 4593094). One place for the check and the drift step, so both judge "established"
     on the same interval."""
     errors = replicate_errors(p, fit_ids, config.fit_window, model.effect, model.params, ctx, config.fit.f_scale,
                               seed)
@@ -70,11 +70,12 @@ def model_intervals(p: Problem, fit_ids: tuple[int, ...], model: FitResult, ctx:
                                                                          established(model.effect, lo, hi, ctx), strict=True)])
     held = weak & ~blind & np.isfinite(nom) & (lo <= nom) & (nom <= hi)  # (P,) a part not established: its nominal values
     scan = fit_windows(p, tuple(fit_ids) + tuple(i for i in p.split.select if i not in fit_ids), config) \
-        if (blind | held).any() else []  # the selection episodes too: they accept effects, and a sparse one needs them
+        if blind.any() else []  # the selection episodes too: they accept effects, and a sparse one needs them
     for j in np.flatnonzero(blind):  # flat at the fit is not flat everywhere (voe.gap.profile)
         lo[j], hi[j] = profile_interval(p.shooter, scan, model.effect, model.params, int(j), ctx)
+    sets = [windows, fit_windows(p, tuple(i for i in p.split.select if i not in fit_ids), config)] if held.any() else []
     for j in np.flatnonzero(held):  # linear at the fit is not linear everywhere: the nominal value asked directly
-        lo[j], hi[j] = nominal_side(p.shooter, scan, model.effect, model.params, int(j), ctx, float(lo[j]), float(hi[j]))
+        lo[j], hi[j] = nominal_side(p.shooter, sets, model.effect, model.params, int(j), ctx, float(lo[j]), float(hi[j]))
     return lo, hi
 
 
