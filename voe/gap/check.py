@@ -157,9 +157,9 @@ def short_of_nominal(model: FitResult, nominal_sse: np.ndarray, threshold: float
     models no round accepted outright, a trial kept with nothing to confirm it
     (``voe.gap.greedy.Trial.last``), and one standard holds for every name. Measured (session
     18) on 12 correct identifications (6 compounds, 6 single truths) and 6 clean cases with main's
-    code: every model the check left unchanged passes
-    (e.g. 8587117's ``rolling_resistance`` + a ``Trial.last`` ``mass[ball]``: gain 68.9 %,
-    quantile 41.4 %, threshold 32.6 %), so no answer there moved.
+    code: every model the check left unchanged passes (e.g. 8587117's ``rolling_resistance`` + a
+    ``Trial.last`` ``mass[ball]``: gain 68.9 %, quantile 41.4 %, threshold 32.6 %), so no answer
+    there moved.
 
     The quantile must not be negative rather than positive: an effect that changes only a few
     windows (a mass, felt only in collisions) leaves every other window's error exactly as it
