@@ -54,11 +54,14 @@ def model_intervals(p: Problem, fit_ids: tuple[int, ...], model: FitResult, ctx:
     bounded range there (no window's prediction moves at the fit) is scanned instead
     (``voe.gap.profile``) on the fitting and selection episodes' windows (development case
     7857016: the box slid in one of 11 fitting windows, too few to rule anything out, and in
-    several of the selection windows). A part the interval leaves not established has each
-    nominal value its interval holds asked directly, on the fitting and on the selection windows
-    separately (``voe.gap.profile.nominal_side``: the local interval linearises a hinge;
-    development cases 2758081, 4593094). One place for the check and the drift step, so both judge "established"
-    on the same interval."""
+    several of the selection windows). A part that saturates (``Effect.saturates``: friction,
+    rolling resistance) and that the interval leaves not established has each nominal value its
+    interval holds asked directly, on the fitting and on the selection windows separately
+    (``voe.gap.profile.nominal_side``: the local interval linearises a hinge; development cases
+    2758081, 2758115, 4593094). Only such parts: a smooth effect's local interval is what the
+    parametric bootstrap calibrates, and asked directly a clean case's constant acceleration was
+    ruled out on both sets (4593052, 4593219, white noise: false names). One place for the check
+    and the drift step, so both judge "established" on the same interval."""
     errors = replicate_errors(p, fit_ids, config.fit_window, model.effect, model.params, ctx, config.fit.f_scale,
                               seed)
     windows = fit_windows(p, fit_ids, config)
@@ -66,9 +69,9 @@ def model_intervals(p: Problem, fit_ids: tuple[int, ...], model: FitResult, ctx:
     b_lo, b_hi = model.effect.bounds(ctx)
     nom = model.effect.nominal(ctx)  # (P,)
     blind = (lo <= b_lo) & (hi >= b_hi) & np.isfinite(nom)  # (P,) whole range: no information
-    weak = np.concatenate([np.full(e.n_params, not ok) for e, ok in zip(model.effect.parts,
-                                                                         established(model.effect, lo, hi, ctx), strict=True)])
-    held = weak & ~blind & np.isfinite(nom) & (lo <= nom) & (nom <= hi)  # (P,) a part not established: its nominal values
+    weak = np.concatenate([np.full(e.n_params, e.saturates and not ok) for e, ok in zip(
+        model.effect.parts, established(model.effect, lo, hi, ctx), strict=True)])  # (P,) a hinge part not established
+    held = weak & ~blind & np.isfinite(nom) & (lo <= nom) & (nom <= hi)  # (P,) its nominal values the interval holds
     scan = fit_windows(p, tuple(fit_ids) + tuple(i for i in p.split.select if i not in fit_ids), config) \
         if blind.any() else []  # the selection episodes too: they accept effects, and a sparse one needs them
     for j in np.flatnonzero(blind):  # flat at the fit is not flat everywhere (voe.gap.profile)
