@@ -7,11 +7,11 @@ removed in turn and the rest refitted without it; the selection error must rise 
 threshold of the round that accepted it, or it goes. Each remaining effect's parameters get 95 %
 intervals (a bootstrap over fitting windows joined with a parametric bootstrap on replicates
 simulated under the fit, ``voe.gap.parametric``), and an effect whose interval contains its nominal
-value (zero strength, the scene's own coefficient) is not established and not reported. A model
-the check has changed (a part dropped, or a group member put in a dropped winner's place) must
-then beat the nominal model on the selection windows as a whole, as the search asks of every
-model it accepts (``short_of_nominal``), or nothing is reported. Only then are the test episodes,
-untouched so far, simulated.
+value (zero strength, the scene's own coefficient) is not established and not reported. The model
+left, whether the check changed it (a part dropped, or a group member put in a dropped winner's
+place) or not, must then beat the nominal model on the selection windows as a whole, as the
+search asks of a model it accepts outright (``short_of_nominal``), or nothing is reported. Only
+then are the test episodes, untouched so far, simulated.
 """
 
 from __future__ import annotations
@@ -121,7 +121,7 @@ def check_step(p: Problem, loc: Location, s: Search, config: GapConfig, seed: in
         else:
             model = None if eff is None else as_sum(s.fitter.refit(eff, starts, s.fitter.config.refine_nfev))
         dropped.append(drop)
-    if model is not None and dropped:  # the check built this model: judged as the search judges one
+    if model is not None:  # every reported model, as the search judges one (``short_of_nominal``)
         nominal_sse = s.result.nominal_sse if s.result.nominal_sse is not None else s.fitter.heldout_sse()
         first = s.result.rounds[0].threshold if s.result.rounds else None
         why = short_of_nominal(model, nominal_sse, config.min_gain if first is None else first, config.gain_lower_q)
@@ -152,6 +152,14 @@ def short_of_nominal(model: FitResult, nominal_sse: np.ndarray, threshold: float
     is -11 % and no round would have accepted it. The right answer a substitution rescues passes
     easily (development case 6263021: ``point_attractor`` in place of ``spring_anchor``, 48 % in
     its round). The selection windows decide; the test episodes stay held out for the figure.
+
+    Every reported model is judged, not only those the check changed: the search also reports
+    models no round accepted outright, a trial kept with nothing to confirm it
+    (``voe.gap.greedy.Trial.last``), and one standard holds for every name. Measured (session
+    18) on 12 correct identifications (6 compounds, 6 single truths) and 6 clean cases with main's
+    code: every model the check left unchanged passes (e.g. 8587117's ``rolling_resistance`` + a
+    ``Trial.last`` ``mass[ball]``: gain 68.9 %, quantile 41.4 %, threshold 32.6 %), so no answer
+    there moved.
 
     The quantile must not be negative rather than positive: an effect that changes only a few
     windows (a mass, felt only in collisions) leaves every other window's error exactly as it
