@@ -89,3 +89,26 @@ def test_an_effect_felt_in_few_windows_is_kept_when_its_quantile_is_exactly_zero
     assert check.short_of_nominal(model, np.ones(6), 0.10, 0.05) is None
     worse = FitResult(model.effect, model.params, 0, 0, _sse(np.array([-1.2, 0.05, 0.0, -0.9, 0.0, 0.0])))
     assert check.short_of_nominal(worse, np.ones(6), 0.10, 0.05) is not None  # one window worse: negative
+
+
+def test_a_model_the_check_left_unchanged_is_judged_too(monkeypatch):
+    # one standard for every reported model: a search model nothing was dropped from (here one
+    # established part, as a trial kept by ``Trial.last`` would leave it) with 4593205's pattern
+    # against the nominal model is not reported; the same model gaining in every window is
+    drag = EFFECTS.get("linear_drag")()
+
+    def run(sse: np.ndarray):
+        model = FitResult(EffectSum((drag,)), np.array([0.2]), 0, 0, sse)
+        monkeypatch.setattr(check, "fit_context", lambda p, ids=None: None)
+        monkeypatch.setattr(check, "model_intervals", lambda p, ids, m, ctx, config, seed: (np.array([0.1]),
+                                                                                            np.array([0.3])))
+        monkeypatch.setattr(check, "verify_on_test", lambda p, model, config, z: (None, "test"))
+        rounds = (Round(0.01, {}, {}, {}, 0.05, "linear_drag", ("linear_drag",)),)
+        s = SimpleNamespace(result=SearchResult(model, rounds, ("linear_drag",), np.ones(9)), fitter=None)
+        return check.check_step(SimpleNamespace(split=SimpleNamespace(fit=(0, 1))), SimpleNamespace(z_threshold=5.0),
+                                s, GapConfig(), 0)
+
+    c = run(_sse(CLEAN_4593205))
+    assert c.model is None and [d["effect"] for d in c.dropped] == ["linear_drag"]
+    assert "against the nominal model on the selection windows" in c.dropped[0]["reason"]
+    assert run(_sse(np.full(9, -0.5))).keys == ("linear_drag",)

@@ -82,13 +82,46 @@ def test_flight_residual_of_a_constant_fitted_to_a_gust_changes_in_time():
     eff = EFFECTS.get("constant_acceleration")()
     for gust in (True, False):
         scene, eps = _episodes(gust)
-        samples = flight_samples(scene, eps)
-        mean = samples.dacc.mean(axis=0)  # (2,) the best constant in flight
-        found = flight_drift(samples, eff, mean, scene, context_for(scene, eps))
-        if gust:
-            assert found is not None and found.flight and found.param == "x" and "changes in time" in found.reason()
-        else:
-            assert abs(mean[0] - 0.5) < 0.05 and found is None
+        for around in (False, True):  # smoothing the constant as the recording was changes nothing
+            samples = flight_samples(scene, eps, around=around)
+            mean = samples.dacc.mean(axis=0)  # (2,) the best constant in flight
+            found = flight_drift(samples, eff, mean, scene, context_for(scene, eps))
+            if gust:
+                assert found is not None and found.flight and found.param == "x" and "changes in time" in found.reason()
+            else:
+                assert abs(mean[0] - 0.5) < 0.05 and found is None
+
+
+def test_a_true_attractor_passed_at_one_time_does_not_drift_in_flight():
+    """Development case 2758047: a true point attractor was dropped as changing in time (t = 4.2)
+    because the recorded accelerations are smoothed over 0.25 s and the attractor's pull was
+    not; the bodies pass the point at about the same time, so the smoothing's bias sat in one
+    slot. Smoothed as the recording was (``around``), the residual is the noise."""
+    rng = np.random.default_rng(0)
+    scene, t = flight_scene(), np.arange(201) / 100
+    sigma = np.array([[1e-3, 1e-3, 1e-2]])
+    eff, p = EFFECTS.get("point_attractor")(), np.array([1.5, 1.0, 3.6])  # passed about 0.75 s in
+    eps = []
+    for k in range(8):
+        pose0 = np.array([[rng.uniform(-0.2, 0.2), rng.uniform(0, 0.2), 0.0]])
+        vel0 = np.array([[rng.uniform(1.2, 1.5), rng.uniform(8.5, 9), 0.0]])
+        eps.append(simulate_episode(scene, k, t, pose0, vel0, eff, p, sigma, rng))
+    ctx = context_for(scene, eps)
+    plain = flight_drift(flight_samples(scene, eps), eff, p, scene, ctx)
+    assert plain is not None and plain.split == "time 0.75 s"  # the false alarm, unsmoothed
+    assert flight_drift(flight_samples(scene, eps, around=True), eff, p, scene, ctx) is None
+
+
+def test_smoothing_kernel_reproduces_the_filtered_second_derivative():
+    from scipy.signal import savgol_filter
+
+    from voe.gap.prefit import smoothing_kernel
+
+    dt, x = 0.01, np.cos(7 * np.arange(60) * 0.01) + (np.arange(60) * 0.01) ** 3  # (T,)
+    acc = np.diff(x, 2) / dt**2  # (T - 2,) second differences at frames 1 .. T - 2
+    w = smoothing_kernel(12)  # (23,)
+    want = savgol_filter(x, 25, 3, deriv=2, delta=dt)[30]
+    assert abs(w.sum() - 1) < 1e-9 and abs(w @ acc[30 - 12:30 + 11] - want) < 1e-6 * abs(want)
 
 
 def test_only_parts_that_push_in_flight_answer_for_a_flight_residual():

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from voe.gap.profile import profile_interval, ruled_out, scan_grid
+from voe.gap.profile import nominal_side, profile_interval, ruled_out, scan_grid
 
 
 class _Sticky:
@@ -71,3 +71,38 @@ def test_only_the_windows_a_value_changes_decide_and_one_is_not_enough():
     mixed = sparse.copy()
     mixed[[5, 7]] = 1 / 50.0  # and worse on two others: no consistent preference
     assert not ruled_out(fit, mixed)
+
+
+class _Hinge:
+    """A friction-like parameter (``_Sticky``: [0, 3], nominal 0.6) with a hinge at 1 in the windows ``hinge``
+    (the body sticks above 1, so the fit at 1.04 has no curvature there, but 0.6 predicts 0.05 m per unit off),
+    and window 3 preferring a low value (its own optimum 0.69, 0.02 m per unit). The rest is noise."""
+
+    def __init__(self, hinge: tuple[int, ...] = (0, 1, 7, 8), n: int = 14, seed: int = 0) -> None:
+        self.noise = np.random.default_rng(seed).normal(0, 1e-3, (n, 50, 1, 3))
+        self.hinge = hinge
+
+    def residuals(self, windows, effect, params):
+        v = float(params[0])
+        shift = {w: 0.05 * (min(v, 1.0) - 1.0) for w in self.hinge} | {3: 0.02 * (v - 0.69)}
+        return [self.noise[w] + shift.get(w, 0.0) for w in windows]
+
+
+FIT, SELECT = list(range(7)), list(range(7, 14))  # the fitting and the selection windows
+
+
+def test_a_nominal_value_both_window_sets_rule_out_ends_the_local_interval_short_of_it():
+    # the local interval [0, 1.27] holds 0.6 (2758081's shape); the hinge windows of each set rule it out
+    lo, hi = nominal_side(_Hinge(), [FIT, SELECT], _Sticky(), np.array([1.04]), 0, None, 0.0, 1.27)
+    assert hi == 1.27 and 0.6 < lo <= 1.0 + 3 / 23  # values at or above the hinge predict as the fit there: kept
+
+
+def test_a_nominal_value_ruled_out_in_one_set_only_keeps_the_local_interval():
+    # 2758101's shape: the fitting windows alone rule the nominal value out, the selection windows do not
+    assert nominal_side(_Hinge(hinge=(0, 1)), [FIT, SELECT], _Sticky(), np.array([1.04]), 0, None, 0.0, 1.27) \
+        == (0.0, 1.27)
+    # with both sets as one, the same windows would rule it out
+    assert nominal_side(_Hinge(hinge=(0, 1)), [FIT + SELECT], _Sticky(), np.array([1.04]), 0, None, 0.0, 1.27) \
+        != (0.0, 1.27)
+    # no selection windows (cross-validation): nothing is ruled out here
+    assert nominal_side(_Hinge(), [FIT, []], _Sticky(), np.array([1.04]), 0, None, 0.0, 1.27) == (0.0, 1.27)

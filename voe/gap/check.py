@@ -7,11 +7,11 @@ removed in turn and the rest refitted without it; the selection error must rise 
 threshold of the round that accepted it, or it goes. Each remaining effect's parameters get 95 %
 intervals (a bootstrap over fitting windows joined with a parametric bootstrap on replicates
 simulated under the fit, ``voe.gap.parametric``), and an effect whose interval contains its nominal
-value (zero strength, the scene's own coefficient) is not established and not reported. A model
-the check has changed (a part dropped, or a group member put in a dropped winner's place) must
-then beat the nominal model on the selection windows as a whole, as the search asks of every
-model it accepts (``short_of_nominal``), or nothing is reported. Only then are the test episodes,
-untouched so far, simulated.
+value (zero strength, the scene's own coefficient) is not established and not reported. The model
+left, whether the check changed it (a part dropped, or a group member put in a dropped winner's
+place) or not, must then beat the nominal model on the selection windows as a whole, as the
+search asks of a model it accepts outright (``short_of_nominal``), or nothing is reported. Only
+then are the test episodes, untouched so far, simulated.
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ from voe.gap.effects.base import Effect, EffectSum, FitContext
 from voe.gap.fit import FitResult
 from voe.gap.folds import as_sum, without
 from voe.gap.parametric import replicate_errors
-from voe.gap.profile import profile_interval
+from voe.gap.profile import nominal_side, profile_interval
 from voe.gap.search import Round, gain_lower_bound, window_gain
 from voe.gap.stages import GapConfig, Location, Problem, Search, fit_context, fit_windows
 from voe.gap.uncertainty import established, intervals
@@ -54,18 +54,31 @@ def model_intervals(p: Problem, fit_ids: tuple[int, ...], model: FitResult, ctx:
     bounded range there (no window's prediction moves at the fit) is scanned instead
     (``voe.gap.profile``) on the fitting and selection episodes' windows (development case
     7857016: the box slid in one of 11 fitting windows, too few to rule anything out, and in
-    several of the selection windows). One place for the check and the drift step, so both judge
-    "established" on the same interval."""
+    several of the selection windows). A part that saturates (``Effect.saturates``: friction,
+    rolling resistance) and that the interval leaves not established has each nominal value its
+    interval holds asked directly, on the fitting and on the selection windows separately
+    (``voe.gap.profile.nominal_side``: the local interval linearises a hinge; development cases
+    2758081, 2758115, 4593094). Only such parts: a smooth effect's local interval is what the
+    parametric bootstrap calibrates, and asked directly a clean case's constant acceleration was
+    ruled out on both sets (4593052, 4593219, white noise: false names). One place for the check
+    and the drift step, so both judge "established" on the same interval."""
     errors = replicate_errors(p, fit_ids, config.fit_window, model.effect, model.params, ctx, config.fit.f_scale,
                               seed)
     windows = fit_windows(p, fit_ids, config)
     lo, hi = intervals(p.shooter, p.sigma, windows, model.effect, model.params, ctx, config.fit.f_scale, seed, errors)
     b_lo, b_hi = model.effect.bounds(ctx)
-    blind = (lo <= b_lo) & (hi >= b_hi) & np.isfinite(model.effect.nominal(ctx))  # (P,) whole range: no information
+    nom = model.effect.nominal(ctx)  # (P,)
+    blind = (lo <= b_lo) & (hi >= b_hi) & np.isfinite(nom)  # (P,) whole range: no information
+    weak = np.concatenate([np.full(e.n_params, e.saturates and not ok) for e, ok in zip(
+        model.effect.parts, established(model.effect, lo, hi, ctx), strict=True)])  # (P,) a hinge part not established
+    held = weak & ~blind & np.isfinite(nom) & (lo <= nom) & (nom <= hi)  # (P,) its nominal values the interval holds
     scan = fit_windows(p, tuple(fit_ids) + tuple(i for i in p.split.select if i not in fit_ids), config) \
         if blind.any() else []  # the selection episodes too: they accept effects, and a sparse one needs them
     for j in np.flatnonzero(blind):  # flat at the fit is not flat everywhere (voe.gap.profile)
         lo[j], hi[j] = profile_interval(p.shooter, scan, model.effect, model.params, int(j), ctx)
+    sets = [windows, fit_windows(p, tuple(i for i in p.split.select if i not in fit_ids), config)] if held.any() else []
+    for j in np.flatnonzero(held):  # linear at the fit is not linear everywhere: the nominal value asked directly
+        lo[j], hi[j] = nominal_side(p.shooter, sets, model.effect, model.params, int(j), ctx, float(lo[j]), float(hi[j]))
     return lo, hi
 
 
@@ -121,7 +134,7 @@ def check_step(p: Problem, loc: Location, s: Search, config: GapConfig, seed: in
         else:
             model = None if eff is None else as_sum(s.fitter.refit(eff, starts, s.fitter.config.refine_nfev))
         dropped.append(drop)
-    if model is not None and dropped:  # the check built this model: judged as the search judges one
+    if model is not None:  # every reported model, as the search judges one (``short_of_nominal``)
         nominal_sse = s.result.nominal_sse if s.result.nominal_sse is not None else s.fitter.heldout_sse()
         first = s.result.rounds[0].threshold if s.result.rounds else None
         why = short_of_nominal(model, nominal_sse, config.min_gain if first is None else first, config.gain_lower_q)
@@ -152,6 +165,14 @@ def short_of_nominal(model: FitResult, nominal_sse: np.ndarray, threshold: float
     is -11 % and no round would have accepted it. The right answer a substitution rescues passes
     easily (development case 6263021: ``point_attractor`` in place of ``spring_anchor``, 48 % in
     its round). The selection windows decide; the test episodes stay held out for the figure.
+
+    Every reported model is judged, not only those the check changed: the search also reports
+    models no round accepted outright, a trial kept with nothing to confirm it
+    (``voe.gap.greedy.Trial.last``), and one standard holds for every name. Measured (session
+    18) on 12 correct identifications (6 compounds, 6 single truths) and 6 clean cases with main's
+    code: every model the check left unchanged passes (e.g. 8587117's ``rolling_resistance`` + a
+    ``Trial.last`` ``mass[ball]``: gain 68.9 %, quantile 41.4 %, threshold 32.6 %), so no answer
+    there moved.
 
     The quantile must not be negative rather than positive: an effect that changes only a few
     windows (a mass, felt only in collisions) leaves every other window's error exactly as it

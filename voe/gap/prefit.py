@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import least_squares
-from scipy.signal import savgol_filter
+from scipy.signal import savgol_coeffs, savgol_filter
 
 from voe.gap.context import frame_labels, near_bodies
 from voe.gap.effects.base import Effect, EffectSum
@@ -53,6 +53,9 @@ class FlightSamples:
         gyration: (N,) sqrt(I/m) of the row's body (turns angular terms into metres).
         time: (N,) the sample's time since its episode began, s; episode: (N,) its episode's
             place in the list (``voe.gap.drift`` asks whether what is missing changes in time).
+        around: the states of the recorded frames whose accelerations the smoothing averages
+            into each sample's (K = 2 half - 1 per sample, sample by sample: N * K rows), or
+            None; kernel: (K,) their weights (``smoothing_kernel``).
     """
 
     state: SimState
@@ -62,17 +65,42 @@ class FlightSamples:
     gyration: np.ndarray
     time: np.ndarray | None = None
     episode: np.ndarray | None = None
+    around: SimState | None = None
+    kernel: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.body)
 
 
+def smoothing_kernel(half: int) -> np.ndarray:
+    """(2 half - 1,) weights w with which the Savitzky-Golay second derivative (cubic, 2 half + 1
+    samples) of a path equals sum_k w_k a_{t+k}, a the path's second differences over dt^2.
+
+    Why: the filter annihilates constants and lines, so its coefficients c are the second
+    difference of some w (c_j = w_{j-1} - 2 w_j + w_{j+1}), found by summing c twice; the weights
+    sum to 1 (a parabola's second derivative is exact) and do not depend on dt. A recorded flight
+    acceleration is this average of the true one over 0.25 s (``HALF``), not its value at the
+    sample: near an attracting point, where the pull rises and falls within 0.1 s, the two
+    differ by tens of m/s^2 (development case 2758047, true attractor: median 19 m/s^2 within
+    0.2 m of the point).
+    """
+    return np.cumsum(np.cumsum(savgol_coeffs(2 * half + 1, 3, deriv=2, use="dot")))[:-2]
+
+
 def flight_samples(scene: SceneSpec, episodes: list[Episode], half: int = HALF,
-                   rng: np.random.Generator | None = None) -> FlightSamples | None:
-    """Collect free-flight samples whose whole fitting span is in flight; None if too few."""
+                   rng: np.random.Generator | None = None, around: bool = False) -> FlightSamples | None:
+    """Collect free-flight samples whose whole fitting span is in flight; None if too few.
+
+    ``around``: also keep, for each sample, the frames its smoothed acceleration averages
+    (``FlightSamples.around``; recorded positions and angles, smoothed velocities), so that an
+    effect's acceleration can be smoothed as the recording was (``seen_missing``). The samples
+    are the same with or without.
+    """
     jointed = scene.jointed()
     g = np.asarray(scene.gravity, dtype=float)
     rows: dict[str, list] = {k: [] for k in ("pos", "vel", "ang", "om", "acc", "alpha", "body", "t", "ep")}
+    near_rows: dict[str, list] = {k: [] for k in ("pos", "vel", "ang", "om")}  # each (n, K, ...)
+    offs = np.arange(-half + 1, half)  # (K,) the frames ``smoothing_kernel`` weighs
     for i_ep, ep in enumerate(episodes):
         t_len = len(ep.t)
         if t_len < 2 * half + 1:
@@ -100,20 +128,36 @@ def flight_samples(scene: SceneSpec, episodes: list[Episode], half: int = HALF,
             rows["body"].append(np.full(len(k), b))
             rows["t"].append(ep.t[k] - ep.t[0])
             rows["ep"].append(np.full(len(k), i_ep))
+            if around:  # frames k - half + 1 .. k + half - 1, all in flight (the whole span is)
+                kk = k[:, None] + offs[None, :]  # (n, K)
+                near_rows["pos"].append(ep.pose[kk, b, :2])
+                near_rows["ang"].append(ep.pose[kk, b, 2])
+                near_rows["vel"].append(vel[kk, b, :2])
+                near_rows["om"].append(vel[kk, b, 2])
     if not rows["body"] or sum(len(b) for b in rows["body"]) < MIN_SAMPLES:
         return None
     cat = {k: np.concatenate(v) for k, v in rows.items()}
+    near = {k: np.concatenate(v) for k, v in near_rows.items()} if around else {}
     n = len(cat["body"])
     if n > MAX_SAMPLES:
         pick = np.sort((rng or np.random.default_rng(0)).choice(n, MAX_SAMPLES, replace=False))
         cat = {k: v[pick] for k, v in cat.items()}
+        near = {k: v[pick] for k, v in near.items()}
     body = cat["body"]
     mass = np.array([b.mass for b in scene.bodies])[body]
     moment = np.array([b.moment_value() for b in scene.bodies])[body]
     gyr = np.array([b.gyration_radius for b in scene.bodies])[body]
     no_contact = np.zeros(len(body), dtype=bool)
     state = SimState(cat["pos"], cat["vel"], cat["ang"], cat["om"], mass, moment, g, lambda: no_contact)
-    return FlightSamples(state, body, cat["acc"], cat["alpha"], gyr, cat["t"], cat["ep"])
+    if not around:
+        return FlightSamples(state, body, cat["acc"], cat["alpha"], gyr, cat["t"], cat["ep"])
+    n_k = len(offs)
+    no_contact_k = np.zeros(len(body) * n_k, dtype=bool)
+    near_state = SimState(near["pos"].reshape(-1, 2), near["vel"].reshape(-1, 2), near["ang"].reshape(-1),
+                          near["om"].reshape(-1), np.repeat(mass, n_k), np.repeat(moment, n_k), g,
+                          lambda: no_contact_k)  # (N * K) rows, sample by sample
+    return FlightSamples(state, body, cat["acc"], cat["alpha"], gyr, cat["t"], cat["ep"], near_state,
+                         smoothing_kernel(half))
 
 
 def _missing(effect: Effect, params: np.ndarray, s: FlightSamples, scene: SceneSpec) -> tuple[np.ndarray, np.ndarray]:
@@ -129,6 +173,23 @@ def _missing(effect: Effect, params: np.ndarray, s: FlightSamples, scene: SceneS
         acc += f * (m / s.state.mass)[:, None]
         alpha += tau * m / s.state.moment
     return acc, alpha
+
+
+def seen_missing(effect: Effect, params: np.ndarray, s: FlightSamples,
+                 scene: SceneSpec) -> tuple[np.ndarray, np.ndarray]:
+    """``_missing`` as the recording shows it: averaged over the frames around each sample with
+    the smoothing's own weights (``smoothing_kernel``); ``_missing`` itself if the samples keep no
+    frames around. Why: a residual against the unsmoothed value is the smoothing's bias wherever
+    the force changes within the span, a bias that lies where the bodies pass, so at the times
+    they pass (``voe.gap.drift.flight_drift``)."""
+    if s.around is None or s.kernel is None:
+        return _missing(effect, params, s, scene)
+    n, n_k = len(s), len(s.kernel)
+    rows = FlightSamples(s.around, np.repeat(s.body, n_k), np.zeros((n * n_k, 2)), np.zeros(n * n_k),
+                         np.repeat(s.gyration, n_k))
+    acc, alpha = _missing(effect, params, rows, scene)  # (N * K, 2), (N * K,)
+    return (np.einsum("nkd,k->nd", acc.reshape(n, n_k, 2), s.kernel),
+            alpha.reshape(n, n_k) @ s.kernel)
 
 
 def prefit_starts(cand: Effect, starts: list[np.ndarray], lo: np.ndarray, hi: np.ndarray, scale: np.ndarray,

@@ -59,6 +59,9 @@ class Effect:
     contexts: ClassVar[tuple[str, ...]] = ()
     summary: ClassVar[str] = ""
     sparse: ClassVar[bool] = False  # acts in few windows only (collisions between bodies): fit where it acts
+    # a hinge: once a body sticks or stops, more of the effect predicts the same, so windows that rule out a
+    # weaker value can be flat at the fit and a linearised interval cannot see them (voe.gap.profile.nominal_side)
+    saturates: ClassVar[bool] = False
     acts: ClassVar[str] = "always"  # when it acts: "always", "contact" (at contacts/impacts), "region", "joint"
     flight_regression: ClassVar[bool] = True  # free-flight accelerations can seed its starts (voe.gap.prefit)
     fine_flight: ClassVar[bool] = False  # also seed from accelerations smoothed over a short span (``FitContext.flight_fine``)

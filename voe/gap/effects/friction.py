@@ -15,6 +15,7 @@ from voe.sim.scenefile import Materials, SceneSpec
 
 class Friction(Effect):
     name = "friction"
+    saturates = True  # the body sticks / the ball stops (``Effect.saturates``)
     param_names = ("friction",)
     units = ("",)
     contexts = ("sliding",)

@@ -85,6 +85,7 @@ class _Region(Effect):
 
 class FrictionRegion(_Region):
     name = "friction_region"
+    saturates = True  # the body sticks / the ball stops (``Effect.saturates``)
     param_names = ("d_mu", "x0", "x1")
     units = ("", "m", "m")
     summary = "sliding contacts between x0 and x1 have a different friction coefficient (a floor patch)"
@@ -136,6 +137,7 @@ class FrictionRegion(_Region):
 
 class RollingResistanceRegion(_Region):
     name = "rolling_resistance_region"
+    saturates = True  # the body sticks / the ball stops (``Effect.saturates``)
     param_names = ("c_rr", "x0", "x1")
     units = ("", "m", "m")
     summary = "bodies touching the floor between x0 and x1 slow down at a constant rate (a soft patch)"
