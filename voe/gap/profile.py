@@ -73,7 +73,6 @@ def profile_interval(shooter: Shooter, windows: list[Window], effect: Effect, pa
     return min(kept), max(kept)
 
 
-
 def nominal_side(shooter: Shooter, sets: list[list[Window]], effect: Effect, params: np.ndarray, j: int,
                  ctx: FitContext, lo: float, hi: float) -> tuple[float, float]:
     """The interval [``lo``, ``hi``] of parameter ``j`` (the rest at ``params``), which holds its
