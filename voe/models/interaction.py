@@ -88,6 +88,9 @@ def rollout_nll(net: InteractionModule, d: dict[str, torch.Tensor],
     causal by construction and each clip is processed on its own. ``trace`` (diagnostics,
     ``bench/hidden_rollout.py``): each step appends the predicted mean and log-variance of frame
     t+1, ``(B, K, 9)`` each, then the presence and shape logits, ``(B, K)`` each (``frame_parts``).
+    ``d["fed"]`` ``(B, T, K)`` (training only, ``voe.models.interaction_teacher.stretch_mask``): the
+    observations fed to the slot state, default ``present``; the others are rolled out and scored.
+    A head with ``TEACH_SD`` adds ``velocity_teacher``'s gradient in training.
     """
     head = net.head
     obs, pres, circ_obs = d["obs"], d["present"], d["circle"]  # (B, T, K, 9), (B, T, K), (B, T, K)
@@ -101,8 +104,9 @@ def rollout_nll(net: InteractionModule, d: dict[str, torch.Tensor],
     exist = obs.new_zeros(B, K)
     lv = obs.new_full((B, K, 9), sr.LV_NEW)
     frames = [obs.new_zeros(B, dtype=torch.float64 if f64 else obs.dtype)]
+    fed_all = d.get("fed", pres)  # (B, T, K): observations fed to the slot state (training may leave some out)
     for t in range(T):
-        p = pres[:, t]  # (B, K)
+        p = fed_all[:, t]  # (B, K)
         cont = torch.where(p[..., None], obs[:, t], cont)
         circ = torch.where(p, circ_obs[:, t], circ)
         exist = torch.where(p, torch.ones_like(exist), exist)
@@ -124,10 +128,35 @@ def rollout_nll(net: InteractionModule, d: dict[str, torch.Tensor],
             trace.append((mean[..., :9].detach(), lv_next.detach(), p_logit.detach(), s_logit.detach()))
         cost = _frame_cost(head, mean[..., :9], lv_next, p_logit, s_logit, obs[:, t + 1], pres[:, t + 1],
                            circ_obs[:, t + 1], f64)
+        if head.training and head.TEACH_SD is not None:
+            cost = cost + velocity_teacher(mean[..., 3:5], obs[:, t + 1, :, 3:5], p & pres[:, t + 1], head.TEACH_SD)
         frames.append(cost)
         # exist is a belief in [0, 1]; unclamped, a learned map can blow it up along a rollout
         cont, lv, exist, circ = cont_next, lv_next, mean[..., 9].clamp(0.0, 1.0), torch.sigmoid(s_logit)
     return torch.stack(frames, 1)  # (B, T)
+
+
+def velocity_teacher(mean_v: torch.Tensor, obs_v: torch.Tensor, seen: torch.Tensor, sd: float) -> torch.Tensor:
+    """Training-only term ``(B,)`` whose value is 0 and whose gradient is a fixed-width Gaussian's
+    on the predicted velocity of each slot seen at t and t+1.
+
+    Why (sessions 16-18, docs/models-findings.md): the step never turned a visible object round at
+    a bounce, because the likelihood's pull on the mean is scaled by the learned visible sd (about
+    0.02 units/s): beyond about 8 sd the floored Gaussian gives no gradient, and a bounded (Huber)
+    pull is outvoted by the 99 % of steps that go on, so the mean becomes a median that says "goes
+    on". A squared loss of *fixed* width learns floor bounces (session 18's supervised check); here
+    it is added to the likelihood's gradient, so a contact's pull grows with its size while the
+    scored density, and the value of the training loss, stay the mixture's. Only one-step
+    predictions from an observed state are taught: a hidden rollout's error at a return is not a
+    contact.
+
+    Args:
+        mean_v, obs_v: ``(B, K, 2)`` predicted and observed (vx, vy) at t+1; seen: ``(B, K)``
+            observed at t and t+1; sd: the fixed width, in velocity units.
+    """
+    z = (obs_v - mean_v) / sd
+    teach = torch.where(seen[..., None], 0.5 * z * z, torch.zeros_like(z)).sum((-1, -2))  # (B,)
+    return teach - teach.detach()
 
 
 def _frame_cost(head: RolloutHead, mean: torch.Tensor, lv: torch.Tensor, p_logit: torch.Tensor,

@@ -40,6 +40,10 @@ class StateHead(nn.Module):
     model is uniform over the slot observation space whatever its network computes.
     """
 
+    #: ``None``, or the fixed width (velocity units) of the training-only teacher of the velocity
+    #: mean (``voe.models.interaction.velocity_teacher``)
+    TEACH_SD: float | None = None
+
     def __init__(self) -> None:
         super().__init__()
         self.outlier_theta = nn.Parameter(torch.zeros(()))  # w = sigmoid(W0 - 20 theta)
