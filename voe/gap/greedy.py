@@ -37,6 +37,7 @@ from voe.gap.fit import FitResult
 from voe.gap.folds import FoldedFitter, as_sum
 from voe.gap.null import NullSearch
 from voe.gap.pairs import NullSnapshot, data_pair, pair_step
+from voe.gap.reselect import reselect
 from voe.gap.search import (
     Round,
     RoundTask,
@@ -97,6 +98,7 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
     pool = dict(candidates)
     trial: Trial | None = None  # a provisional winner that the next round must confirm
     alone = False  # the model is a first-round trial that nothing confirmed or refused (``Trial.last``)
+    by_pair: set[str] = set()  # parts a pair step accepted (not asked again: ``voe.gap.reselect``)
     q = lower_q or 0.05
     for r in range(max_effects):
         if len(keys) >= max_effects:  # a pair step added two parts
@@ -137,6 +139,7 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
                 current = accept_all([(fitter, step.pair.result, step.pair.gain, before_sse)], n_jobs)[0]
                 before_sse = current.window_sse
                 keys += list(step.pair.keys)
+                by_pair |= set(step.pair.keys)
                 if on_model is not None:
                     on_model(as_sum(current))
                 if not goes_on:
@@ -149,7 +152,9 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
                 tried = (current, keys, rounds[trial.index])
                 rounds[trial.index] = trial.undone
                 current, keys = trial.current, keys[:-1]
+                n_before = len(keys)
                 current, keys = _pair_after_trial(fitter, trial, rounds, current, keys, max_effects, q, n_jobs)
+                by_pair |= set(keys[n_before:])
                 if len(keys) == len(tried[1]) - 1 and (trial.current is not None or trial.mostly_better):  # ``Trial.last``
                     current, keys = tried[0], tried[1]
                     rounds[trial.index] = trial.last(tried[2])
@@ -176,7 +181,9 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
                 rounds.append(Round(before, results, gains, lower, thr, basis=trial.refused(winner)))
                 rounds[trial.index] = trial.undone
                 current, keys = trial.current, keys[:-1]
+                n_before = len(keys)
                 current, keys = _pair_after_trial(fitter, trial, rounds, current, keys, max_effects, q, n_jobs)
+                by_pair |= set(keys[n_before:])
                 break
             rounds[trial.index] = trial.kept(winner)
             trial = None
@@ -195,8 +202,13 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
             on_model(as_sum(current))
         if not pool:
             break
+    changed = False
+    if lower_q:  # each part asked again with the others in (``voe.gap.reselect``)
+        current, keys, changed = reselect(fitter, current, keys, rounds, q, by_pair)
+        if changed and on_model is not None:
+            on_model(as_sum(current))
     return SearchResult(as_sum(current) if current is not None else None, tuple(rounds), tuple(keys), nominal_sse,
-                        alone)
+                        alone and not changed)
 
 
 @dataclass(frozen=True)
