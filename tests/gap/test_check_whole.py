@@ -112,3 +112,29 @@ def test_a_model_the_check_left_unchanged_is_judged_too(monkeypatch):
     assert c.model is None and [d["effect"] for d in c.dropped] == ["linear_drag"]
     assert "against the nominal model on the selection windows" in c.dropped[0]["reason"]
     assert run(_sse(np.full(9, -0.5))).keys == ("linear_drag",)
+
+
+def test_a_first_round_trial_kept_alone_is_established_by_its_interval(monkeypatch):
+    # session 20 (9028098, 9028115): a single effect the search kept as a first-round trial has a
+    # negative quantile by construction; the check's interval (fitting episodes) establishes it,
+    # so the quantile is not asked again. Not so once the check changed the model, nor without the mark.
+    drag = EFFECTS.get("linear_drag")()
+    sse = _sse(np.array([-1.5, -0.8, 0.05, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]))  # two windows better, one a little worse
+    assert gain_lower_bound(np.ones(9), sse, q=0.05) < 0
+
+    def run(alone: bool, lo: float):
+        model = FitResult(EffectSum((drag,)), np.array([0.2]), 0, 0, sse)
+        monkeypatch.setattr(check, "fit_context", lambda p, ids=None: None)
+        monkeypatch.setattr(check, "model_intervals", lambda p, ids, m, ctx, config, seed: (np.array([lo]),
+                                                                                            np.array([0.3])))
+        monkeypatch.setattr(check, "verify_on_test", lambda p, model, config, z: (None, "test"))
+        rounds = (Round(0.01, {}, {}, {}, 0.05, "linear_drag", ("linear_drag",)),)
+        s = SimpleNamespace(result=SearchResult(model, rounds, ("linear_drag",), np.ones(9), alone), fitter=None)
+        return check.check_step(SimpleNamespace(split=SimpleNamespace(fit=(0, 1))), SimpleNamespace(z_threshold=5.0),
+                                s, GapConfig(), 0)
+
+    assert run(True, 0.1).keys == ("linear_drag",)
+    c = run(False, 0.1)
+    assert c.model is None and "against the nominal model on the selection windows" in c.dropped[0]["reason"]
+    c = run(True, -0.1)  # the interval holds the nominal value: dropped as not established
+    assert c.model is None and "not established" in c.dropped[0]["reason"]

@@ -65,3 +65,22 @@ def test_five_windows_far_beyond_several_replicates_depart():
     level = [tail_p(_chaotic(rng, 30), np.array([_chaotic(rng, 30) for _ in range(REPLICATES)]), 400, s)
              for s in range(300)]
     assert np.mean(np.array(level) < 0.05) <= 0.08  # exchangeable columns: honest level
+
+
+def test_one_window_chaotic_in_every_replicate_does_not_mask_the_others():
+    """Like development case 9028142 (a floor patch, test RMSE 40 mm, called consistent): six
+    half-second windows at z 34-138 whose replicates are 2-4, and one window at z ~62 in every
+    replicate (the replicates share the nominal motion, so a chaotic window is chaotic in all)
+    and in the data. Counted against the largest replicate window anywhere, no data window
+    exceeds it; each against its own column, the six stand out."""
+    rng = np.random.default_rng(4)
+    reps = np.exp(rng.normal(0.7, 0.4, (REPLICATES, 40)))  # (R, W)
+    zd = np.exp(rng.normal(0.7, 0.4, 40))
+    reps[:, 11] = 62.0 * np.exp(rng.normal(0, 0.02, REPLICATES))
+    zd[11] = 60.0
+    zd[[0, 6, 13, 20, 27, 34]] = [138.0, 75.6, 74.7, 47.8, 35.9, 34.4]
+    assert tail_p(zd, reps) < ALPHA / 2
+    assert departure_p(zd[:20], reps[0, :20], (zd, reps)) < ALPHA
+    z_clean = np.exp(rng.normal(0.7, 0.4, 40))
+    z_clean[11] = 60.0
+    assert tail_p(z_clean, reps) > 0.05  # the chaotic window alone, in the data too, is no departure

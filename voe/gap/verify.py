@@ -97,7 +97,7 @@ def explain(verdict: str, effects: list[dict], groups: list[list[str]], located:
                  f"{len(isolated)} stretch(es) exceed the clean replicate's largest window z ({z_strong:.1f}): "
                  f"{_where(located, z_strong)}, but across all windows the recordings depart no more than the "
                  f"replicate does (departure p = {departure_p if departure_p is not None else float('nan'):.2g};"
-                 f" signed-rank and tail-count tests, Bonferroni-combined), as isolated chaotic windows do")
+                 f" signed-rank and tail-excess tests, Bonferroni-combined), as isolated chaotic windows do")
         cut = ("no candidate effect that cut the selection error by more than the null threshold of "
                f"{100 * threshold:.1f} % has a strength distinguishable from the nominal scene" if dropped else
                f"no candidate effect cut the selection error by more than the null threshold of {100 * threshold:.1f} %")
@@ -106,7 +106,7 @@ def explain(verdict: str, effects: list[dict], groups: list[list[str]], located:
         return text + tail
     if verdict == "unexplained":
         n = sum(1 for x in located if not x["z"] <= z_strong)
-        test = "" if departure_p is None else f", departure p = {departure_p:.2g} (signed-rank and tail-count tests, Bonferroni-combined)"
+        test = "" if departure_p is None else f", departure p = {departure_p:.2g} (signed-rank and tail-excess tests, Bonferroni-combined)"
         text = (f"The recordings depart from the nominal simulation in {n} located stretch(es) (z above "
                 f"{z_strong:.1f}): {_where(located, z_strong)}; across all windows they depart more than clean "
                 f"simulated data does{test}. No effect in the library explains it")
