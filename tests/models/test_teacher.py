@@ -105,3 +105,55 @@ def test_stretch_mask_leaves_out_one_stretch_after_first_sight_and_scoring_feeds
     v9m = random_network("voe.models.interaction_teacher:InteractionNetV9m", 3)  # not a constant
     v9 = random_network("voe.models.interaction_teacher:InteractionNetV9", 3)
     np.testing.assert_array_equal(v9m.frame_nll(tiny_batch), v9.frame_nll(tiny_batch))
+
+
+def _hidden_pull(arch: str, vx2: float, screened: bool, seen0: bool = True) -> tuple[float, float, float]:
+    """As ``_pull``, for the third frame of a ball fed at frame 0 (if ``seen0``), not fed at frame 1
+    (behind a screen if ``screened``, else present but left out as in a masked stretch) and seen
+    at frame 2 moving at ``vx2``: that prediction is 2 steps from the last fed state. The scored
+    value is returned for the screened case (a masked frame is fed when scoring)."""
+    from voe.models.interaction import rollout_nll
+    from voe.models.loading import load_model
+
+    d = {k: (torch.cat([v, v[:, 1:]], 1) if v.dim() > 1 and v.shape[1] == 2 else v)
+         for k, v in _frames(2.0, seen0).items()}  # (1, T=3, ...)
+    d["obs"][0, 2, 0, 3] = vx2
+    d["present"][0, 1, 0] = not screened
+    d["fed"] = d["present"].clone()
+    d["fed"][0, 1, 0] = False
+    m = load_model(arch, {"seed": 0})
+    net = m.net.double()
+    d = {k: (v.double() if v.is_floating_point() else v) for k, v in d.items()}
+    with torch.no_grad():
+        net.head.outlier_theta.fill_(1.22 / net.head.OUTLIER_GAIN)
+        net.head.lv_bias.fill_(2 * np.log(0.02) / net.head.LV_GAIN)
+        net.head.c[3] = 2.0
+    bias = net.out[-1].bias
+    net.train()
+    loss = rollout_nll(net, d)[0, 2]
+    loss.backward()
+    net.eval()
+    with torch.no_grad():
+        scored = float(rollout_nll(net, {k: v for k, v in d.items() if k != "fed"})[0, 2])
+    return float(loss.detach()), scored, -float(bias.grad[4])
+
+
+def test_v9h_teaches_a_rolled_out_step_at_a_width_that_grows_with_the_steps_hidden():
+    """v9h (session 20): the step two frames after the last fed state is taught at width
+    ``TEACH_SD * sqrt(2)``, whether the frame between was left out (masked stretch) or screened;
+    v9 teaches neither, and a slot never fed is never taught."""
+    from voe.models.interaction_teacher import HiddenTeacherHead
+
+    sd = HiddenTeacherHead.TEACH_SD
+    v9 = "voe.models.interaction_teacher:InteractionNetV9"
+    v9h = "voe.models.interaction_teacher:InteractionNetV9h"
+    for screened in (False, True):
+        for vx2 in (1.0, -3.0):
+            loss, scored, pull = _hidden_pull(v9h, vx2, screened)
+            _, _, v9_pull = _hidden_pull(v9, vx2, screened)
+            assert pull - v9_pull == pytest.approx((vx2 - 2.0) / (2 * sd ** 2), rel=1e-6), (screened, vx2)
+            if screened:
+                assert loss == pytest.approx(scored, abs=1e-9)  # the teacher's value is 0
+    _, _, never = _hidden_pull(v9h, -3.0, False, seen0=False)
+    _, _, v9_never = _hidden_pull(v9, -3.0, False, seen0=False)
+    assert never == pytest.approx(v9_never, abs=1e-9)

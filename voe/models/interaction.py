@@ -105,8 +105,10 @@ def rollout_nll(net: InteractionModule, d: dict[str, torch.Tensor],
     lv = obs.new_full((B, K, 9), sr.LV_NEW)
     frames = [obs.new_zeros(B, dtype=torch.float64 if f64 else obs.dtype)]
     fed_all = d.get("fed", pres)  # (B, T, K): observations fed to the slot state (training may leave some out)
+    since = obs.new_full((B, K), -1.0)  # steps from the last fed state to t; -1 = never fed
     for t in range(T):
         p = fed_all[:, t]  # (B, K)
+        since = torch.where(p, torch.zeros_like(since), torch.where(since >= 0, since + 1, since))
         cont = torch.where(p[..., None], obs[:, t], cont)
         circ = torch.where(p, circ_obs[:, t], circ)
         exist = torch.where(p, torch.ones_like(exist), exist)
@@ -129,14 +131,17 @@ def rollout_nll(net: InteractionModule, d: dict[str, torch.Tensor],
         cost = _frame_cost(head, mean[..., :9], lv_next, p_logit, s_logit, obs[:, t + 1], pres[:, t + 1],
                            circ_obs[:, t + 1], f64)
         if head.training and head.TEACH_SD is not None:
-            cost = cost + velocity_teacher(mean[..., 3:5], obs[:, t + 1, :, 3:5], p & pres[:, t + 1], head.TEACH_SD)
+            taught = (since >= 0) if head.TEACH_HIDDEN else p  # (B, K)
+            sd = head.TEACH_SD * torch.sqrt(since.clamp_min(0) + 1)  # (B, K): sqrt(n) after n steps
+            cost = cost + velocity_teacher(mean[..., 3:5], obs[:, t + 1, :, 3:5], taught & pres[:, t + 1], sd)
         frames.append(cost)
         # exist is a belief in [0, 1]; unclamped, a learned map can blow it up along a rollout
         cont, lv, exist, circ = cont_next, lv_next, mean[..., 9].clamp(0.0, 1.0), torch.sigmoid(s_logit)
     return torch.stack(frames, 1)  # (B, T)
 
 
-def velocity_teacher(mean_v: torch.Tensor, obs_v: torch.Tensor, seen: torch.Tensor, sd: float) -> torch.Tensor:
+def velocity_teacher(mean_v: torch.Tensor, obs_v: torch.Tensor, seen: torch.Tensor,
+                     sd: float | torch.Tensor) -> torch.Tensor:
     """Training-only term ``(B,)`` whose value is 0 and whose gradient is a fixed-width Gaussian's
     on the predicted velocity of each slot seen at t and t+1.
 
@@ -147,14 +152,16 @@ def velocity_teacher(mean_v: torch.Tensor, obs_v: torch.Tensor, seen: torch.Tens
     on". A squared loss of *fixed* width learns floor bounces (session 18's supervised check); here
     it is added to the likelihood's gradient, so a contact's pull grows with its size while the
     scored density, and the value of the training loss, stay the mixture's. Only one-step
-    predictions from an observed state are taught: a hidden rollout's error at a return is not a
-    contact.
+    predictions from an observed state are taught, unless the head's ``TEACH_HIDDEN`` (v9h) also
+    teaches rolled-out steps, at a width that grows as ``sqrt(n)`` with the n steps since the last
+    fed state (a rollout's drift is a random walk, not a contact).
 
     Args:
         mean_v, obs_v: ``(B, K, 2)`` predicted and observed (vx, vy) at t+1; seen: ``(B, K)``
-            observed at t and t+1; sd: the fixed width, in velocity units.
+            taught slots (observed at t+1); sd: the width in velocity units, a number or ``(B, K)``.
     """
-    z = (obs_v - mean_v) / sd
+    sd = torch.as_tensor(sd, dtype=mean_v.dtype)
+    z = (obs_v - mean_v) / (sd[..., None] if sd.dim() else sd)
     teach = torch.where(seen[..., None], 0.5 * z * z, torch.zeros_like(z)).sum((-1, -2))  # (B,)
     return teach - teach.detach()
 

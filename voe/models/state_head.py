@@ -43,6 +43,9 @@ class StateHead(nn.Module):
     #: ``None``, or the fixed width (velocity units) of the training-only teacher of the velocity
     #: mean (``voe.models.interaction.velocity_teacher``)
     TEACH_SD: float | None = None
+    #: teach also the steps of a rolled-out (not fed) slot whose next frame is observed, at width
+    #: ``TEACH_SD * sqrt(n)`` after n steps from its last fed state (``interaction_teacher``, v9h)
+    TEACH_HIDDEN: bool = False
 
     def __init__(self) -> None:
         super().__init__()
