@@ -104,7 +104,9 @@ def nominal_side(shooter: Shooter, sets: list[list[Window]], effect: Effect, par
     (quantile -0.5 %); with both together it was kept, a false name. The selection windows alone
     are held out from the fit but chose the effect; a value both rule out is ruled out by the
     data that fitted it and by data that did not. With no selection windows (cross-validation)
-    nothing is ruled out here and the local interval stands.
+    nothing is ruled out here and the local interval stands. Since ``voe.gap.check`` asks only
+    hinge parts (``Effect.saturates``), and since session 20 only on the fitting episodes'
+    windows, ``sets`` holds one set there (see ``voe.gap.check.model_intervals``).
     """
     nom = float(effect.nominal(ctx)[j])
     x = float(params[j])

@@ -2,7 +2,12 @@
 multiplies it with the friction of the surface).
 
 Why: sliding distances and spin-up after a bounce are set by Coulomb friction, which nominal
-scenes often guess.
+scenes often guess. It acts only where a body slides, so it is ``sparse``: its fit uses the
+training windows in which it changes the prediction. A random subsample of eight fitting windows
+held two slides on development case 9028042 (true mu 1.17, nominal 0.69), one of them a window
+the truth mispredicts (8 median windows' cost against 5 at nominal); the fit went to 0.57, below
+nominal, and lost 37 % on the selection windows, where the truth gains 61 %. On the eight
+windows where it acts it fits 1.19.
 """
 
 from __future__ import annotations
@@ -16,6 +21,7 @@ from voe.sim.scenefile import Materials, SceneSpec
 class Friction(Effect):
     name = "friction"
     saturates = True  # the body sticks / the ball stops (``Effect.saturates``)
+    sparse = True  # fitted on the windows where it acts (``Fitter.focused``)
     param_names = ("friction",)
     units = ("",)
     contexts = ("sliding",)
