@@ -31,24 +31,29 @@ def _frames(vx1: float, seen_before: bool) -> dict[str, torch.Tensor]:
 
 def _pull(arch: str, vx1: float, seen_before: bool = True) -> tuple[float, float, float]:
     """Training loss, scored loss, and ``-d loss / d (vx correction)`` of the one predicted frame."""
+    return _grad_at(arch, _frames(vx1, seen_before), 1, lambda d: d)
+
+
+def _grad_at(arch: str, frames: dict[str, torch.Tensor], t: int, scoring) -> tuple[float, float, float]:
+    """Training loss at frame ``t``, its scored value (on ``scoring(frames)``), and
+    ``-d loss / d (vx correction)``, for an untrained ``arch`` whose head is set as a trained one's."""
     from voe.models.interaction import rollout_nll
     from voe.models.loading import load_model
 
-    m = load_model(arch, {"seed": 0})
-    net = m.net.double()
-    d = {k: (v.double() if v.is_floating_point() else v) for k, v in _frames(vx1, seen_before).items()}
+    net = load_model(arch, {"seed": 0}).net.double()
+    d = {k: (v.double() if v.is_floating_point() else v) for k, v in frames.items()}
     with torch.no_grad():
         net.head.outlier_theta.fill_(1.22 / net.head.OUTLIER_GAIN)  # log w ~ -4.4, a trained model's
         net.head.lv_bias.fill_(2 * np.log(0.02) / net.head.LV_GAIN)  # visible sd ~0.02, a trained model's
         net.head.c[3] = 2.0  # the constant prediction goes on at 2 units/s
     bias = net.out[-1].bias
     net.train()
-    loss = rollout_nll(net, d)[0, 1]
+    loss = rollout_nll(net, d)[0, t]
     loss.backward()
     net.eval()
     with torch.no_grad():
-        scored = rollout_nll(net, d)[0, 1]
-    return float(loss.detach()), float(scored), -float(bias.grad[4])  # out[..., 4]: the vx correction
+        scored = float(rollout_nll(net, scoring(d))[0, t])
+    return float(loss.detach()), scored, -float(bias.grad[4])  # out[..., 4]: the vx correction
 
 
 def test_a_bounce_pulls_the_velocity_mean_in_proportion_to_its_size():
@@ -112,30 +117,13 @@ def _hidden_pull(arch: str, vx2: float, screened: bool, seen0: bool = True) -> t
     (behind a screen if ``screened``, else present but left out as in a masked stretch) and seen
     at frame 2 moving at ``vx2``: that prediction is 2 steps from the last fed state. The scored
     value is returned for the screened case (a masked frame is fed when scoring)."""
-    from voe.models.interaction import rollout_nll
-    from voe.models.loading import load_model
-
     d = {k: (torch.cat([v, v[:, 1:]], 1) if v.dim() > 1 and v.shape[1] == 2 else v)
          for k, v in _frames(2.0, seen0).items()}  # (1, T=3, ...)
     d["obs"][0, 2, 0, 3] = vx2
     d["present"][0, 1, 0] = not screened
     d["fed"] = d["present"].clone()
     d["fed"][0, 1, 0] = False
-    m = load_model(arch, {"seed": 0})
-    net = m.net.double()
-    d = {k: (v.double() if v.is_floating_point() else v) for k, v in d.items()}
-    with torch.no_grad():
-        net.head.outlier_theta.fill_(1.22 / net.head.OUTLIER_GAIN)
-        net.head.lv_bias.fill_(2 * np.log(0.02) / net.head.LV_GAIN)
-        net.head.c[3] = 2.0
-    bias = net.out[-1].bias
-    net.train()
-    loss = rollout_nll(net, d)[0, 2]
-    loss.backward()
-    net.eval()
-    with torch.no_grad():
-        scored = float(rollout_nll(net, {k: v for k, v in d.items() if k != "fed"})[0, 2])
-    return float(loss.detach()), scored, -float(bias.grad[4])
+    return _grad_at(arch, d, 2, lambda x: {k: v for k, v in x.items() if k != "fed"})
 
 
 def test_v9h_teaches_a_rolled_out_step_at_a_width_that_grows_with_the_steps_hidden():
