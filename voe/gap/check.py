@@ -77,12 +77,12 @@ def model_intervals(p: Problem, fit_ids: tuple[int, ...], model: FitResult, ctx:
     weak = np.concatenate([np.full(e.n_params, e.saturates and not ok) for e, ok in zip(
         model.effect.parts, established(model.effect, lo, hi, ctx), strict=True)])  # (P,) a hinge part not established
     held = weak & ~blind & np.isfinite(nom) & (lo <= nom) & (nom <= hi)  # (P,) its nominal values the interval holds
-    scan = fit_windows(p, tuple(fit_ids) + tuple(i for i in p.split.select if i not in fit_ids), config) \
+    select = tuple(i for i in p.split.select if i not in fit_ids)  # the selection episodes
+    scan = fit_windows(p, tuple(fit_ids) + select, config) \
         if blind.any() else []  # the selection episodes too: they accept effects, and a sparse one needs them
     for j in np.flatnonzero(blind):  # flat at the fit is not flat everywhere (voe.gap.profile)
         lo[j], hi[j] = profile_interval(p.shooter, scan, model.effect, model.params, int(j), ctx)
-    sel = fit_windows(p, tuple(i for i in p.split.select if i not in fit_ids), config) if held.any() else []
-    sets = [windows] if sel else []  # the selection windows accepted it already (see above)
+    sets = [windows] if held.any() and fit_windows(p, select, config) else []  # not the selection windows (see above)
     for j in np.flatnonzero(held):  # linear at the fit is not linear everywhere: the nominal value asked directly
         lo[j], hi[j] = nominal_side(p.shooter, sets, model.effect, model.params, int(j), ctx, float(lo[j]), float(hi[j]))
     return lo, hi

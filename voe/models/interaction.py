@@ -105,10 +105,12 @@ def rollout_nll(net: InteractionModule, d: dict[str, torch.Tensor],
     lv = obs.new_full((B, K, 9), sr.LV_NEW)
     frames = [obs.new_zeros(B, dtype=torch.float64 if f64 else obs.dtype)]
     fed_all = d.get("fed", pres)  # (B, T, K): observations fed to the slot state (training may leave some out)
-    since = obs.new_full((B, K), -1.0)  # steps from the last fed state to t; -1 = never fed
+    hidden = head.training and head.TEACH_SD is not None and head.TEACH_HIDDEN  # v9h's teacher only
+    since = obs.new_full((B, K), -1.0)  # steps from the last fed state to t; -1 = never fed (v9h only)
     for t in range(T):
         p = fed_all[:, t]  # (B, K)
-        since = torch.where(p, torch.zeros_like(since), torch.where(since >= 0, since + 1, since))
+        if hidden:
+            since = torch.where(p, torch.zeros_like(since), torch.where(since >= 0, since + 1, since))
         cont = torch.where(p[..., None], obs[:, t], cont)
         circ = torch.where(p, circ_obs[:, t], circ)
         exist = torch.where(p, torch.ones_like(exist), exist)
@@ -131,8 +133,8 @@ def rollout_nll(net: InteractionModule, d: dict[str, torch.Tensor],
         cost = _frame_cost(head, mean[..., :9], lv_next, p_logit, s_logit, obs[:, t + 1], pres[:, t + 1],
                            circ_obs[:, t + 1], f64)
         if head.training and head.TEACH_SD is not None:
-            taught = (since >= 0) if head.TEACH_HIDDEN else p  # (B, K)
-            sd = head.TEACH_SD * torch.sqrt(since.clamp_min(0) + 1)  # (B, K): sqrt(n) after n steps
+            taught = (since >= 0) if hidden else p  # (B, K)
+            sd = head.TEACH_SD * torch.sqrt(since.clamp_min(0) + 1) if hidden else head.TEACH_SD  # sqrt(n) after n steps
             cost = cost + velocity_teacher(mean[..., 3:5], obs[:, t + 1, :, 3:5], taught & pres[:, t + 1], sd)
         frames.append(cost)
         # exist is a belief in [0, 1]; unclamped, a learned map can blow it up along a rollout
