@@ -62,8 +62,10 @@ def _check(monkeypatch: pytest.MonkeyPatch, left_sse: np.ndarray):
     monkeypatch.setattr(check, "verify_on_test", lambda p, model, config, z: (None, "test"))
     rounds = (Round(0.01, {}, {}, {}, 0.05, "linear_drag", ("linear_drag",)),
               Round(0.01, {}, {}, {}, 0.05, "quadratic_drag", ("quadratic_drag",)))
+    fitter = SimpleNamespace(refit=refit, config=SimpleNamespace(refine_nfev=10))
+    fitter.unfocused = lambda: fitter  # the refits' windows do not matter here
     s = SimpleNamespace(result=SearchResult(both, rounds, ("linear_drag", "quadratic_drag"), np.ones(9)),
-                        fitter=SimpleNamespace(refit=refit, config=SimpleNamespace(refine_nfev=10)))
+                        fitter=fitter)
     p = SimpleNamespace(split=SimpleNamespace(fit=(0, 1)))
     return check.check_step(p, SimpleNamespace(z_threshold=5.0), s, GapConfig(), 0)
 

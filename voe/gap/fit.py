@@ -77,6 +77,13 @@ class Fitter:
         sub.__dict__.update(self.__dict__, train=train, _weights=weights, _memo={})
         return sub
 
+    def unfocused(self) -> Fitter:
+        """This fitter without its pool: every fit on the training windows, a ``sparse`` newest
+        part's too (``focused`` returns self). Why: see ``voe.gap.check.check_step``."""
+        sub = self._on(self.train, self._weights)
+        sub.pool = None
+        return sub
+
     def focused(self, effect: Effect, x0: np.ndarray, lo: np.ndarray, hi: np.ndarray, scale: np.ndarray) -> Fitter:
         """For a ``sparse`` newest part of ``effect``: a fitter on pool windows where moving that
         part's parameters by 3 scales changes the prediction by more than a third of the noise

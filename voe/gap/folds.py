@@ -62,6 +62,10 @@ class FoldedFitter:
         """The refine step: a longer fit from the result's own parameters."""
         return self.refit(res.effect, res.fold_params, self.config.refine_nfev)
 
+    def unfocused(self) -> FoldedFitter:
+        """Every fold's ``Fitter.unfocused``: fits on the training windows only."""
+        return FoldedFitter([f.unfocused() for f in self.folds])
+
     def residuals(self, effect: Effect | None, fold_params: tuple[np.ndarray, ...] | None) -> list[np.ndarray]:
         """Selection-window residuals (n, B, 3) per window, in ``test`` order."""
         return [r for k, f in enumerate(self.folds)
