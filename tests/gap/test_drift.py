@@ -176,3 +176,34 @@ def test_a_parameter_drift_must_be_material_to_the_parts_strength():
     assert material(np.array([0.3, 0.0]), np.array([-0.05, 0.01]), np.zeros(2)).tolist() == [True, False]
     # a parameter without a nominal value (a position) has no floor
     assert material(np.array([0.1, 1.0]), np.array([0.1, 1.001]), np.array([0.0, np.nan])).tolist() == [False, True]
+
+
+def test_a_slot_seen_in_short_flight_stretches_still_counts():
+    """Session 20 untouched case 6157143 (a gust): the ball flew in the slot at 0.5 s in only three
+    of six fitting episodes, for 4, 4 and 8 samples, where a constant left about 1.1 m/s^2 against
+    about 0 earlier. With five samples needed per unit that slot held one unit and was never
+    tested, and ``constant_acceleration`` was named. Three samples (a median that withstands one
+    far-off sample) make each of those stretches a unit. The units below are that case's (episode,
+    slot, samples, median residual x and y in m/s^2)."""
+    import dataclasses
+
+    eff = EFFECTS.get("constant_acceleration")()
+    scene, eps = _episodes(False, n=6)
+    samples = flight_samples(scene, eps)  # about 0.5 m/s^2 missing, constant in time
+    units = [(0, 0, 0, 0.10, 0.06), (1, 0, 0, 0.06, -0.07), (2, 0, 0, -0.02, 0.04), (2, 1, 5, 0.22, -0.06),
+             (2, 2, 4, 0.97, 0.02), (3, 0, 0, -0.16, -0.08), (3, 1, 14, -0.22, 0.02), (3, 2, 4, 1.16, 0.01),
+             (3, 3, 3, 1.15, 0.05), (4, 0, 0, -0.08, 0.05), (5, 0, 0, -0.16, 0.10), (5, 1, 10, -0.12, -0.09),
+             (5, 2, 8, 1.08, -0.03), (5, 3, 2, 1.29, 0.14)]
+    time, step = np.zeros(len(samples)), np.zeros((len(samples), 2))  # (N,), (N, 2); slot 0 takes the rest
+    for k in range(6):
+        idx, end = np.flatnonzero(samples.episode == k), None
+        for _, slot, n, x, y in sorted((u for u in units if u[0] == k), key=lambda u: -u[1]):
+            rows = idx[:end][-n:] if n else idx[:end]
+            time[rows], step[rows] = (slot + 0.5) * 0.25, (x, y)
+            end = -n if end is None else end - n
+    dacc = samples.dacc + step  # (N, 2)
+    ctx = context_for(scene, eps)
+    found = flight_drift(dataclasses.replace(samples, time=time, dacc=dacc), eff, dacc.mean(axis=0), scene, ctx)
+    assert found is not None and found.param == "x" and found.split == "time 0.50 s" and found.early > 0.9
+    # the same short stretches without the step are no drift
+    assert flight_drift(dataclasses.replace(samples, time=time), eff, samples.dacc.mean(axis=0), scene, ctx) is None

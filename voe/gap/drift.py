@@ -74,6 +74,10 @@ N_BOOT = 200
 MIN_WINDOWS = 3  # per side: the bootstrap spread of two windows can be near zero by chance
 FLIGHT_SLOT = 0.25  # s of episode time
 OUTLIER = 10.0  # robust sds from the median: a unit this far off holds a touch labelled flight
+#: Samples an episode's slot needs to count as a unit of ``flight_drift``: three, the fewest whose
+#: median withstands one sample far off (next to an unlabelled touch). Each sample is already a
+#: 0.25 s average (``voe.gap.prefit.HALF``), so more samples of one stretch add little.
+MIN_UNIT = 3
 #: A flight drift must be at least this fraction of the missing acceleration it is part of.
 #: Session 9, on dev seeds: a constant acceleration fitted to each of the 12 zero-mean gusts of
 #: seeds 5151, 6263 and 7741 leaves a slot differing by 0.89-2.39 times the median missing
@@ -395,7 +399,7 @@ def flight_drift(samples: FlightSamples | None, effect: Effect, params: np.ndarr
     units, labels = [], []
     for key in sorted(set(zip(samples.episode.tolist(), slot.tolist(), strict=True))):
         m = (samples.episode == key[0]) & (slot == key[1])
-        if m.sum() >= 5:
+        if m.sum() >= MIN_UNIT:
             units.append(np.median(res[m], axis=0))  # a sample next to an unlabelled touch is far off
             labels.append(key[1])
     if len(units) < 6:
