@@ -395,7 +395,8 @@ def test_a_dropped_winner_is_replaced_by_the_next_member_of_its_group():
                "point_attractor": FitResult(drag + attractor, np.array([0.1, 1.4, 1.0, 1.9]), 0, 0)}
     rnd = Round(0.01, results, {"spring_anchor": 0.50, "point_attractor": 0.48}, {}, 0.05, "spring_anchor",
                 ("spring_anchor", "point_attractor"))
-    s = SimpleNamespace(fitter=SimpleNamespace(refit=refit, config=SimpleNamespace(refine_nfev=10)))
+    fitter = SimpleNamespace(refit=refit, config=SimpleNamespace(refine_nfev=10))
+    s = lambda: fitter  # noqa: E731  (the check's refits: ``check_step``)
     rest = EFFECTS.get("linear_drag")()
     model, key = _alternative(s, rnd, {"spring_anchor", "linear_drag"}, rest, (np.array([0.12]),))
     assert key == "point_attractor" and [e.name for e in model.effect.parts] == ["linear_drag", "point_attractor"]
