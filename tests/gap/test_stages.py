@@ -396,15 +396,18 @@ def test_a_dropped_winner_is_replaced_by_the_next_member_of_its_group():
     rnd = Round(0.01, results, {"spring_anchor": 0.50, "point_attractor": 0.48}, {}, 0.05, "spring_anchor",
                 ("spring_anchor", "point_attractor"))
     fitter = SimpleNamespace(refit=refit, config=SimpleNamespace(refine_nfev=10))
-    s = lambda: fitter  # noqa: E731  (the check's refits: ``check_step``)
+
+    def refits():  # the check's refits (``check_step``)
+        return fitter
+
     rest = EFFECTS.get("linear_drag")()
-    model, key = _alternative(s, rnd, {"spring_anchor", "linear_drag"}, rest, (np.array([0.12]),))
+    model, key = _alternative(refits, rnd, {"spring_anchor", "linear_drag"}, rest, (np.array([0.12]),))
     assert key == "point_attractor" and [e.name for e in model.effect.parts] == ["linear_drag", "point_attractor"]
     np.testing.assert_array_equal(calls[0][1][0], [0.12, 1.4, 1.0, 1.9])  # the rest's params, then the member's own
-    alone, _ = _alternative(s, rnd, {"spring_anchor"}, None, (np.zeros(0),))
+    alone, _ = _alternative(refits, rnd, {"spring_anchor"}, None, (np.zeros(0),))
     np.testing.assert_array_equal(alone.params, [1.4, 1.0, 1.9])
-    assert _alternative(s, rnd, {"spring_anchor", "point_attractor"}, None, (np.zeros(0),)) is None
-    assert _alternative(s, None, set(), None, (np.zeros(0),)) is None
+    assert _alternative(refits, rnd, {"spring_anchor", "point_attractor"}, None, (np.zeros(0),)) is None
+    assert _alternative(refits, None, set(), None, (np.zeros(0),)) is None
 
 
 def test_explanation_does_not_claim_a_cut_when_the_test_error_rises():
