@@ -2,10 +2,20 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
-from voe.gap.drift import MATERIAL, drifts, flight_drift, flight_movers, material, split_estimates
+from voe.gap.drift import (
+    FLIGHT_SLOT,
+    MATERIAL,
+    drifts,
+    flight_drift,
+    flight_movers,
+    material,
+    split_estimates,
+)
 from voe.gap.effects import EFFECTS
 from voe.gap.parametric import SPREAD
 from voe.gap.prefit import flight_samples
@@ -185,8 +195,6 @@ def test_a_slot_seen_in_short_flight_stretches_still_counts():
     tested, and ``constant_acceleration`` was named. Three samples (a median that withstands one
     far-off sample) make each of those stretches a unit. The units below are that case's (episode,
     slot, samples, median residual x and y in m/s^2)."""
-    import dataclasses
-
     eff = EFFECTS.get("constant_acceleration")()
     scene, eps = _episodes(False, n=6)
     samples = flight_samples(scene, eps)  # about 0.5 m/s^2 missing, constant in time
@@ -199,7 +207,7 @@ def test_a_slot_seen_in_short_flight_stretches_still_counts():
         idx, end = np.flatnonzero(samples.episode == k), None
         for _, slot, n, x, y in sorted((u for u in units if u[0] == k), key=lambda u: -u[1]):
             rows = idx[:end][-n:] if n else idx[:end]
-            time[rows], step[rows] = (slot + 0.5) * 0.25, (x, y)
+            time[rows], step[rows] = (slot + 0.5) * FLIGHT_SLOT, (x, y)
             end = -n if end is None else end - n
     dacc = samples.dacc + step  # (N, 2)
     ctx = context_for(scene, eps)
