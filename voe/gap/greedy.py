@@ -294,7 +294,10 @@ class Trial:
         17.0 %; 9028098's fitted ``mass[ball]`` 16.9 %, -0.01 %, 10.7 %); a single effect has
         no next round to confirm it, so the old rule (undone) could never name it, however
         strong. A trial the next round refuses (a winner that does not confirm it) is still
-        undone, first round or not (9028124 stays unnamed that way).
+        undone, first round or not (9028124 stays unnamed that way). Kept alone, it must also
+        leave fewer selection windows above the located threshold than the nominal model does
+        (``voe.gap.check.clears_none``): a stand-in for physics outside the library passed
+        ``mostly_better`` (4446141's gust named ``rolling_resistance``, 4 windows better, 3 worse).
         """
         where = "on top of the model accepted before it, for the check to judge" if self.current is not None else \
             "alone, for the check to establish on the fitting episodes"

@@ -45,14 +45,19 @@ def verify(shooter: Shooter, pairs: list[tuple[Window, np.ndarray | None]], effe
         return Verification(nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, False)
     before = shooter.residuals(windows, None, None)
     after = _residuals_at(shooter, pairs, effect) if effect is not None else before
-    sp = [shooter.sigma_pred(w, sigma) for w in windows]
-    zb = np.array([np.sqrt(np.mean((r / s)[1:] ** 2, axis=0)).max() for r, s in zip(before, sp, strict=True)])
-    za = np.array([np.sqrt(np.mean((r / s)[1:] ** 2, axis=0)).max() for r, s in zip(after, sp, strict=True)])
+    zb, za = window_zmax(shooter, windows, before, sigma), window_zmax(shooter, windows, after, sigma)
     flagged_after = float(np.mean(za > z_thr))
     return Verification(rmse(before), rmse(after), position_rmse(before), position_rmse(after),
                         window_score(before), window_score(after),
                         float(np.median(zb)), float(np.median(za)), float(np.mean(zb > z_thr)), flagged_after,
                         bool(flagged_after <= 0.1))
+
+
+def window_zmax(shooter: Shooter, windows: list[Window], residuals: list[np.ndarray], sigma: np.ndarray) -> np.ndarray:
+    """(W,) each window's largest RMS standardised residual over bodies and coordinates (each
+    residual (n, B, 3), the first sample left out), the figure compared with the located threshold."""
+    return np.array([np.sqrt(np.mean((r / shooter.sigma_pred(w, sigma))[1:] ** 2, axis=0)).max()
+                     for w, r in zip(windows, residuals, strict=True)])
 
 
 def _residuals_at(shooter: Shooter, pairs: list[tuple[Window, np.ndarray | None]], effect: Effect) -> list[np.ndarray]:
