@@ -231,3 +231,18 @@ def test_a_sparse_part_fitted_on_its_own_windows_holds_the_parts_already_in():
     res = fitter.fit(eff, [np.array([0.04, 1.0])], max_nfev=5)  # no rolling resistance in the truth
     assert res.params[0] == 0.04  # collision windows do not refit it (they moved it to 0 or 0.142 on 8586058, 1531007)
     assert res.params[1] > 1.3  # the mass still moves towards the truth
+
+
+def test_null_threshold_leaves_out_a_candidate_that_lost_on_the_clean_replicate():
+    """Development case 9028137's null round 1: ``friction`` fitted on its sliding windows flipped
+    3 of 12 selection windows (log SSE ratios below), a gain of -9.3 % whose resampled 95 %
+    quantile (15.6 %) set the threshold; ``mass[ball]`` (-1.7 %) likewise. A loss is never a
+    discovery, so neither counts; a candidate that changes nothing still does."""
+    before = np.ones(12)
+    fric = np.exp([-0.01, 0, 0, 0, -1.97, 0, -0.05, 2.55, 0, 0, 1.59, 0])
+    mass = np.exp([0, -0.03, 0, 0, -0.27, 0, -0.01, 0.7, 0, 0, 0, 0])
+    assert window_gain(before, fric) < 0 and window_gain(before, mass) < 0
+    thr, dist = null_threshold(before, {"friction": _result(fric), "mass": _result(mass), "still": _result(before)})
+    assert thr == 0.0 and np.all(dist == 0.0)  # was 15.6 %: the friction's swings, not a gain
+    thr, _ = null_threshold(before, {"friction": _result(fric), "lucky": _result(np.r_[np.ones(11), 0.0])})
+    assert 0 < thr == null_threshold(before, {"lucky": _result(np.r_[np.ones(11), 0.0])})[0]
