@@ -231,3 +231,22 @@ def test_a_sparse_part_fitted_on_its_own_windows_holds_the_parts_already_in():
     res = fitter.fit(eff, [np.array([0.04, 1.0])], max_nfev=5)  # no rolling resistance in the truth
     assert res.params[0] == 0.04  # collision windows do not refit it (they moved it to 0 or 0.142 on 8586058, 1531007)
     assert res.params[1] > 1.3  # the mass still moves towards the truth
+
+
+def test_null_threshold_counts_a_candidate_that_lost_on_the_clean_replicate_at_most_as_its_mirror():
+    """Development case 9028137's null round 1: ``friction`` fitted on its sliding windows flipped
+    3 of 12 selection windows (log SSE ratios below), a gain of -9.2 % whose resampled 95 %
+    quantile (15.6 %) set the threshold and refused round 2's ``rolling_resistance`` (11.1 %).
+    A loss of 9.2 % shows a swing of 9.2 %, so it counts at most that; left out altogether
+    (gapcomp22), floor patch 2758144's ``linear_drag`` (-19.0 %) no longer held its threshold."""
+    before = np.ones(12)
+    fric = np.exp([-0.01, 0, 0, 0, -1.97, 0, -0.05, 2.55, 0, 0, 1.59, 0])
+    mass = np.exp([0, -0.03, 0, 0, -0.27, 0, -0.01, 0.7, 0, 0, 0, 0])
+    g = window_gain(before, fric)
+    assert -0.10 < g < -0.09 and window_gain(before, mass) < 0
+    thr, dist = null_threshold(before, {"friction": _result(fric), "mass": _result(mass), "still": _result(before)})
+    assert 0.05 < thr <= -g + 1e-12 and np.all(dist <= -g + 1e-12)  # was 15.6 %: the friction's swings
+    assert np.mean(dist >= -g - 1e-12) > 0.05  # the mirror itself is still a swing the null showed
+    lucky = {"lucky": _result(np.r_[np.ones(11), 0.0])}
+    assert null_threshold(before, lucky)[0] > 0  # a winner is resampled as before
+    assert null_threshold(before, {"friction": _result(fric), **lucky})[0] >= null_threshold(before, lucky)[0]
