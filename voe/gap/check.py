@@ -27,12 +27,13 @@ import numpy as np
 from voe.gap.effects.base import Effect, EffectSum, FitContext
 from voe.gap.fit import FitResult
 from voe.gap.folds import FoldedFitter, as_sum, without
+from voe.gap.locate import window_z
 from voe.gap.parametric import replicate_errors
 from voe.gap.profile import nominal_side, profile_interval
 from voe.gap.search import Round, gain_lower_bound, window_gain
 from voe.gap.stages import GapConfig, Location, Problem, Search, fit_context, fit_windows
 from voe.gap.uncertainty import established, intervals
-from voe.gap.verify import Verification, verify, window_zmax
+from voe.gap.verify import Verification, verify
 
 
 @dataclass(frozen=True)
@@ -237,11 +238,12 @@ def short_of_nominal(model: FitResult, nominal_sse: np.ndarray, threshold: float
 
 
 def selection_z(p: Problem, fitter: FoldedFitter, model: FitResult) -> tuple[np.ndarray, np.ndarray]:
-    """(W,) window z (``voe.gap.verify.window_zmax``) of the selection windows under the nominal
-    model and under ``model`` (each fold at its own parameters)."""
+    """(W,) window z (``voe.gap.locate.window_z``, largest over bodies and coordinates) of the
+    selection windows under the nominal model and under ``model`` (each fold at its own parameters)."""
     windows = fitter.test
-    return (window_zmax(fitter.shooter, windows, fitter.residuals(None, None), p.sigma),
-            window_zmax(fitter.shooter, windows, fitter.residuals(model.effect, model.fold_params), p.sigma))
+    return (window_z(fitter.shooter, windows, p.sigma, fitter.residuals(None, None)).max(axis=(1, 2)),
+            window_z(fitter.shooter, windows, p.sigma,
+                     fitter.residuals(model.effect, model.fold_params)).max(axis=(1, 2)))
 
 
 def clears_none(model: FitResult, z_before: np.ndarray, z_after: np.ndarray, z_thr: float) -> str | None:

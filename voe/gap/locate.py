@@ -37,10 +37,14 @@ class Located:
         return asdict(self)
 
 
-def window_z(shooter: Shooter, windows: list[Window], sigma: np.ndarray) -> np.ndarray:
-    """(W, B, 3) RMS standardised residual of the nominal model in each window."""
+def window_z(shooter: Shooter, windows: list[Window], sigma: np.ndarray,
+             residuals: list[np.ndarray] | None = None) -> np.ndarray:
+    """(W, B, 3) RMS standardised residual in each window (first sample left out): of the nominal
+    model, or of the given ``residuals`` (each (n, B, 3)), so that a fitted model's windows are
+    judged by the same figure as the location's threshold."""
     out = []
-    for w, res in zip(windows, shooter.residuals(windows, None, None), strict=True):
+    res_all = shooter.residuals(windows, None, None) if residuals is None else residuals
+    for w, res in zip(windows, res_all, strict=True):
         r = res / shooter.sigma_pred(w, sigma)  # (n, B, 3)
         out.append(np.sqrt(np.mean(r[1:] ** 2, axis=0)))
     return np.array(out)

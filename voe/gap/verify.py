@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from voe.gap.effects.base import Effect
+from voe.gap.locate import window_z
 from voe.gap.shooting import Shooter, Window, position_rmse, rmse, window_score
 
 if TYPE_CHECKING:  # an annotation only: no import of the search machinery at run time
@@ -45,19 +46,13 @@ def verify(shooter: Shooter, pairs: list[tuple[Window, np.ndarray | None]], effe
         return Verification(nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, False)
     before = shooter.residuals(windows, None, None)
     after = _residuals_at(shooter, pairs, effect) if effect is not None else before
-    zb, za = window_zmax(shooter, windows, before, sigma), window_zmax(shooter, windows, after, sigma)
+    zb = window_z(shooter, windows, sigma, before).max(axis=(1, 2))  # (W,)
+    za = window_z(shooter, windows, sigma, after).max(axis=(1, 2))  # (W,)
     flagged_after = float(np.mean(za > z_thr))
     return Verification(rmse(before), rmse(after), position_rmse(before), position_rmse(after),
                         window_score(before), window_score(after),
                         float(np.median(zb)), float(np.median(za)), float(np.mean(zb > z_thr)), flagged_after,
                         bool(flagged_after <= 0.1))
-
-
-def window_zmax(shooter: Shooter, windows: list[Window], residuals: list[np.ndarray], sigma: np.ndarray) -> np.ndarray:
-    """(W,) each window's largest RMS standardised residual over bodies and coordinates (each
-    residual (n, B, 3), the first sample left out), the figure compared with the located threshold."""
-    return np.array([np.sqrt(np.mean((r / shooter.sigma_pred(w, sigma))[1:] ** 2, axis=0)).max()
-                     for w, r in zip(windows, residuals, strict=True)])
 
 
 def _residuals_at(shooter: Shooter, pairs: list[tuple[Window, np.ndarray | None]], effect: Effect) -> list[np.ndarray]:
