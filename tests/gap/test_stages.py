@@ -410,6 +410,42 @@ def test_a_dropped_winner_is_replaced_by_the_next_member_of_its_group():
     assert _alternative(refits, None, set(), None, (np.zeros(0),)) is None
 
 
+def test_a_sparse_group_member_is_refitted_on_its_own_windows():
+    # development case 6685133: mass[box] beside rolling_resistance not established; mass[ball],
+    # refitted on the training windows, made the selection error 13.6 % worse and was dropped
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from voe.gap.check import _alternative
+    from voe.gap.effects import EFFECTS
+    from voe.gap.fit import FitResult
+    from voe.gap.search import Round
+
+    used = []
+
+    def fitter(name):
+        def refit(eff, starts, nfev):
+            used.append(name)
+            return FitResult(eff, starts[0], 0.0, 0.0, np.zeros(3), tuple(starts))
+        return SimpleNamespace(refit=refit, config=SimpleNamespace(refine_nfev=10))
+
+    training, own = fitter("training"), fitter("own")
+    box, ball = EFFECTS.get("mass")(bodies=("box",)), EFFECTS.get("mass")(bodies=("ball",))
+    results = {"mass[box]": FitResult(box, np.array([2.0]), 0, 0), "mass[ball]": FitResult(ball, np.array([0.48]), 0, 0)}
+    rnd = Round(0.01, results, {"mass[box]": 0.73, "mass[ball]": 0.72}, {}, 0.05, "mass[box]", ("mass[box]", "mass[ball]"))
+    rest = EFFECTS.get("rolling_resistance")()
+    model, key = _alternative(lambda: training, rnd, {"mass[box]"}, rest, (np.array([0.06]),), lambda: own)
+    assert key == "mass[ball]" and used == ["own"]  # the search's fitter: its collision windows, the rest held
+    np.testing.assert_array_equal(model.params, [0.06, 0.48])
+    drag, spring = EFFECTS.get("linear_drag")(), EFFECTS.get("spring_anchor")()
+    dense = Round(0.01, {"linear_drag": FitResult(drag, np.array([0.1]), 0, 0),
+                         "spring_anchor": FitResult(spring, np.array([0.1, 1.0, 2.0]), 0, 0)},
+                  {}, {}, 0.05, "spring_anchor", ("spring_anchor", "linear_drag"))
+    _alternative(lambda: training, dense, {"spring_anchor"}, None, (np.zeros(0),), lambda: own)
+    assert used == ["own", "training"]  # a dense member: the check's refits, as before
+
+
 def test_explanation_does_not_claim_a_cut_when_the_test_error_rises():
     """Untouched case 3629063: a friction patch accepted on the selection episodes raised the test
     error from 0.0106 to 0.0351 m, and the text said it "cuts the error ... (-231 % less)"."""
