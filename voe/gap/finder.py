@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from voe.gap.check import Checked, check_step, effect_dicts
+from voe.gap.check import Checked, check_step, effect_dicts, worse_on_test
 from voe.gap.departure import ALPHA
 from voe.gap.drift import DriftAhead, drift_step
 from voe.gap.effects import EFFECTS
@@ -94,8 +94,10 @@ class GapFinder:
                 checked = check_step(self.problem_, self.location_, self.search_, self.config, self.seed,
                                      spec.intervals)
                 note("drift")
-                self.checked_: Checked = drift_step(self.problem_, self.location_, self.search_, checked,
-                                                    self.config, self.seed, ahead)
+                checked = drift_step(self.problem_, self.location_, self.search_, checked, self.config, self.seed,
+                                     ahead)
+                # the final model's test figures: it must not leave the typical test window departing more
+                self.checked_: Checked = worse_on_test(checked, self.problem_, self.config, self.location_.z_threshold)
         return self
 
     # --- findings, read from the stage results ----------------------------------------------

@@ -43,6 +43,8 @@ class FitResult:
     window_sse: np.ndarray | None = None  # (W,) held-out squared error per window
     fold_params: tuple[np.ndarray, ...] = ()  # per fold (see voe.gap.folds); () means (params,)
     train_full: bool = False  # train_cost is the cost on every fold's full training windows (not a focused subset)
+    grid_end: bool = False  # a one-parameter fit left at its coarse grid's outermost point, inside the bounds
+    # (``Fitter._scalar``: the bounded Brent beside it found nothing lower; ``voe.gap.check.beyond_grid``)
 
     def __post_init__(self) -> None:
         if not self.fold_params:
@@ -183,35 +185,39 @@ class Fitter:
             on = self.focused(effect, x0, lo, hi, scale)
             # each part where it acts: the rest held on a sparse part's windows, earlier sparse parts on the training windows
             lo_x, hi_x = held(effect, x0, lo, hi) if on is not self else held_sparse(effect, x0, lo, hi)
+            end = False
             if effect.n_params == 1:
-                x, cost = on._scalar(effect, x0, lo_x, hi_x, scale, nfev)
+                x, cost, end = on._scalar(effect, x0, lo_x, hi_x, scale, nfev)
             else:
                 x, cost = on._powell(effect, x0, lo_x, hi_x, scale, nfev)
             if len(starts) > 1:  # compare on the full training windows, not a focused subset
                 cost = self.cost(effect, x)
             if best is None or cost < best[1]:
-                best = (x, cost, len(starts) > 1 or on is self)
-        x, cost, full = best
+                best = (x, cost, len(starts) > 1 or on is self, end)
+        x, cost, full, end = best
         sse = self.heldout_sse(effect, x)
-        return FitResult(effect, x, cost, float(np.sqrt(sse.sum() / self._n_test)), sse, train_full=full)
+        return FitResult(effect, x, cost, float(np.sqrt(sse.sum() / self._n_test)), sse, train_full=full, grid_end=end)
 
     @property
     def _n_test(self) -> int:
         return sum((w.k1 - w.k0 + 1) * self.shooter.scale.size for w in self.test)
 
-    def _scalar(self, effect, x0, lo, hi, scale, nfev) -> tuple[np.ndarray, float]:
+    def _scalar(self, effect, x0, lo, hi, scale, nfev) -> tuple[np.ndarray, float, bool]:
+        """Grid, then bounded Brent between the best grid point's neighbours; also whether the
+        value is the grid's outermost point inside the bounds (``FitResult.grid_end``)."""
         # offsets below a zero lower bound collapse into one point
         grid = np.unique(np.clip(effect.parts[-1].grid(float(x0[0]), float(scale[0])), lo[0], hi[0]))
         costs = [self.cost(effect, np.array([g])) for g in grid]
         i = int(np.argmin(costs))
+        end = i in (0, len(grid) - 1) and lo[0] < grid[i] < hi[0]  # the cost may fall on beyond the grid
         a, b = grid[max(i - 1, 0)], grid[min(i + 1, len(grid) - 1)]
         if b - a <= 0:
-            return np.array([grid[i]]), float(costs[i])
+            return np.array([grid[i]]), float(costs[i]), end
         res = minimize_scalar(lambda v: self.cost(effect, np.array([v])), bounds=(a, b), method="bounded",
                               options={"maxiter": max(3, nfev - len(grid)), "xatol": 0.01 * scale[0]})
         if res.fun < costs[i]:
-            return np.array([res.x]), float(res.fun)
-        return np.array([grid[i]]), float(costs[i])
+            return np.array([res.x]), float(res.fun), False
+        return np.array([grid[i]]), float(costs[i]), end
 
     def _powell(self, effect, x0, lo, hi, scale, nfev) -> tuple[np.ndarray, float]:
         """Powell's method in units of each parameter's scale, bounds enforced by clipping.

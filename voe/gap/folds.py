@@ -42,7 +42,8 @@ class FoldedFitter:
         sse = np.concatenate([r.window_sse for r in parts])
         n = sum(f._n_test for f in self.folds)
         return FitResult(parts[0].effect, np.median(np.stack(fold_params), axis=0), float(sum(r.train_cost for r in parts)),
-                         float(np.sqrt(np.sum(sse) / max(n, 1))), sse, fold_params, all(r.train_full for r in parts))
+                         float(np.sqrt(np.sum(sse) / max(n, 1))), sse, fold_params, all(r.train_full for r in parts),
+                         any(r.grid_end for r in parts))
 
     def fit_candidate(self, current: FitResult | None, cand: Effect) -> FitResult:
         """``current + cand`` fitted in every fold from that fold's current parameters."""

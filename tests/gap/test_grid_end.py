@@ -1,0 +1,84 @@
+"""A one-parameter fit left at its coarse grid's end, with the fitting cost still falling beyond
+it, is where the search stopped, not a fit: it is not reported (``voe.gap.check.beyond_grid``)."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+
+import voe.gap.check as check
+from voe.gap.effects import EFFECTS
+from voe.gap.effects.base import EffectSum
+from voe.gap.fit import FitResult, Fitter
+from voe.gap.greedy import SearchResult
+from voe.gap.search import Round
+from voe.gap.stages import GapConfig
+
+MASS = EffectSum((EFFECTS.get("mass")(bodies=("box",)),))
+
+# development case 6685146 (a floor patch named ``mass[box]`` 3.3, the grid's last ratio):
+# cost on the 6 collision windows its fit chose, against the mass ratio
+FLOOR_6685146 = {0.2: 605855.0, 0.3: 462348.0, 0.5: 297819.0, 0.75: 194135.0, 1.35: 94926.0, 2.0: 60462.0,
+                 2.5: 54295.0, 3.0: 50527.0, 3.3: 48912.0, 4.0: 46671.0, 5.0: 45446.0, 7.0: 45178.0,
+                 10.0: 49410.0, 20.0: 56956.0}
+# development case 6685007 (a true mass, 2.15, fitted 2.14): the same scan, a minimum inside the grid
+MASS_6685007 = {0.2: 123173.0, 0.3: 96399.0, 0.5: 68064.0, 0.75: 40894.0, 1.35: 17182.0, 2.0: 10734.0,
+                2.5: 11494.0, 3.0: 12540.0, 3.3: 12929.0, 4.0: 14890.0, 5.0: 16189.0, 7.0: 18463.0,
+                10.0: 20957.0, 20.0: 24137.0}
+
+
+class _Fold:
+    """A fold whose fitting cost is interpolated (in log mass) from a development case's scan."""
+
+    def __init__(self, scan: dict[float, float]) -> None:
+        self.ctx = None
+        self.x, self.y = np.log(list(scan)), np.array(list(scan.values()))
+
+    def focused(self, effect, x0, lo, hi, scale):
+        return self
+
+    def cost(self, effect, params):
+        return float(np.interp(np.log(params[0]), self.x, self.y))
+
+
+def _model(value: float) -> FitResult:
+    return FitResult(MASS, np.array([value]), 0, 0, np.full(9, 0.5), grid_end=True)
+
+
+def test_a_value_with_the_cost_falling_beyond_the_grid_is_not_a_fit():
+    why = check.beyond_grid(SimpleNamespace(folds=[_Fold(FLOOR_6685146)]), _model(3.3))
+    assert why is not None and "where the search stopped" in why
+    assert check.beyond_grid(SimpleNamespace(folds=[_Fold(MASS_6685007)]), _model(2.0)) is None  # a minimum
+
+
+def test_the_check_drops_a_model_at_its_grid_end(monkeypatch):
+    def run(scan: dict[float, float], value: float):
+        model = _model(value)
+        monkeypatch.setattr(check, "fit_context", lambda p, ids=None: None)
+        monkeypatch.setattr(check, "model_intervals", lambda p, ids, m, ctx, config, seed: (np.array([1.4]),
+                                                                                            np.array([4.6])))
+        monkeypatch.setattr(check, "verify_on_test", lambda p, model, config, z: (None, "test"))
+        monkeypatch.setattr(check, "selection_z", lambda p, fitter, m: (np.ones(9), np.ones(9)))  # nothing departs
+        rounds = (Round(0.01, {}, {}, {}, 0.05, "mass[box]", ("mass[box]",)),)
+        s = SimpleNamespace(result=SearchResult(model, rounds, ("mass[box]",), np.ones(9), False),
+                            fitter=SimpleNamespace(folds=[_Fold(scan)]))
+        return check.check_step(SimpleNamespace(split=SimpleNamespace(fit=(0, 1))), SimpleNamespace(z_threshold=5.0),
+                                s, GapConfig(), 0)
+
+    c = run(FLOOR_6685146, 3.3)
+    assert c.model is None and "where the search stopped" in c.dropped[0]["reason"]
+    assert run(MASS_6685007, 2.0).keys == ("mass[box]",)
+
+
+def test_the_fit_says_when_it_stopped_at_its_grid_end():
+    def scalar(scan: dict[float, float]):
+        fold = _Fold(scan)
+        f = SimpleNamespace(cost=fold.cost)
+        lo, hi = MASS.bounds(None)
+        return Fitter._scalar(f, MASS, np.array([1.0]), lo, hi, np.array([0.2]), 20)
+
+    x, _, end = scalar(FLOOR_6685146)
+    assert x[0] == 3.3 and end  # Brent between 2.0 and 3.3 finds nothing lower than 3.3
+    x, _, end = scalar(MASS_6685007)
+    assert 1.9 < x[0] < 2.4 and not end
