@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from voe.gap.effects.base import Effect, EffectSum, FitContext
-from voe.gap.fit import FitResult
+from voe.gap.fit import FitResult, scalar_grid
 from voe.gap.folds import FoldedFitter, as_sum, without
 from voe.gap.locate import window_z
 from voe.gap.parametric import replicate_errors
@@ -203,7 +203,7 @@ def worse_on_test(c: Checked, p: Problem, config: GapConfig, z_thr: float) -> Ch
     drift test had dropped ``quadratic_drag``: test windows z 10.1, 18.6, 62.8 -> 24.4, 3.5,
     48.0 against 5.0 (median 18.6 -> 24.4; test RMSE 88 -> 70 mm, carried by the worst window);
     on the selection windows it had cleared 3 of 11 departures (11 -> 8), so ``clears_none``
-    passed it. Right names leave the median test window z at or below the threshold (session 24
+    passed it. Right names leave the median test window z at or below the threshold (session 23
     must-stay cases, docs/gap-findings.md).
     """
     v = c.verification
@@ -292,13 +292,14 @@ def beyond_grid(fitter: FoldedFitter, model: FitResult) -> str | None:
     for f, v in zip(fitter.folds, model.fold_params, strict=True):
         lo, hi = model.effect.bounds(f.ctx)
         scale = model.effect.scale(f.ctx)
-        grid = np.unique(np.clip(part.grid(float(v[0]), float(scale[0])), lo[0], hi[0]))
+        grid = scalar_grid(model.effect, v, lo, hi, scale)
         on = f.focused(model.effect, v, lo, hi, scale)
         here = on.cost(model.effect, v)
         for g in (grid[grid < v[0]][-1:], grid[grid > v[0]][:1]):  # the neighbours below and above
-            if g.size and on.cost(model.effect, g) < here:
+            beyond = on.cost(model.effect, g) if g.size else np.inf
+            if beyond < here:
                 return (f"{part.name} = {float(v[0]):.3g} is the end of the grid its fit searched, and the fitting "
-                        f"cost is lower at {float(g[0]):.3g} ({on.cost(model.effect, g):.4g} against {here:.4g}): "
+                        f"cost is lower at {float(g[0]):.3g} ({beyond:.4g} against {here:.4g}): "
                         f"the value is where the search stopped, not a fit")
     return None
 

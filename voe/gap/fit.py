@@ -205,8 +205,7 @@ class Fitter:
     def _scalar(self, effect, x0, lo, hi, scale, nfev) -> tuple[np.ndarray, float, bool]:
         """Grid, then bounded Brent between the best grid point's neighbours; also whether the
         value is the grid's outermost point inside the bounds (``FitResult.grid_end``)."""
-        # offsets below a zero lower bound collapse into one point
-        grid = np.unique(np.clip(effect.parts[-1].grid(float(x0[0]), float(scale[0])), lo[0], hi[0]))
+        grid = scalar_grid(effect, x0, lo, hi, scale)
         costs = [self.cost(effect, np.array([g])) for g in grid]
         i = int(np.argmin(costs))
         end = i in (0, len(grid) - 1) and lo[0] < grid[i] < hi[0]  # the cost may fall on beyond the grid
@@ -275,6 +274,14 @@ def held(effect: Effect, x0: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> tupl
     lo, hi = lo.copy(), hi.copy()
     lo[:-n], hi[:-n] = x0[:-n], x0[:-n]
     return lo, hi
+
+
+def scalar_grid(effect: Effect, x0: np.ndarray, lo: np.ndarray, hi: np.ndarray, scale: np.ndarray) -> np.ndarray:
+    """The sorted coarse grid a one-parameter fit screens around ``x0`` (the newest part's
+    ``Effect.grid``), clipped to the bounds; offsets below a zero lower bound collapse into one
+    point. Shared by ``Fitter._scalar`` and the check's ``beyond_grid``, which asks the next point
+    of the same grid beyond a value left at its end."""
+    return np.unique(np.clip(effect.parts[-1].grid(float(x0[0]), float(scale[0])), lo[0], hi[0]))
 
 
 def effect_key(effect: Effect | None) -> tuple:
