@@ -27,3 +27,19 @@ def test_effects_named_beyond_the_truth_counts_extra_and_wrong_names():
     lines = summary_lines(results[:2], 1e-3)
     assert any(x.startswith("effects named beyond the truth") and ": 1 of 3 " in x for x in lines)
     assert any("null strength" in x and "a guard" in x for x in lines)
+
+
+def test_false_discovery_is_also_printed_on_the_earlier_runs_clean_cases():
+    """A run with more extra clean cases than the earlier runs' 89 prints the false-discovery
+    line twice per noise kind: over every clean case, and over the cycle's and the first 89 extra
+    ones (lowest case ids), which are the same cases as an earlier ``--clean 89`` run."""
+    def clean(seed, named):
+        return {**_case("none", ["friction"] if named else []), "seed": seed, "role": "clean"}
+    cycle = {**_case("none", []), "seed": 0}
+    extra = [clean(150 + i, named=i in (3, 100)) for i in range(120)]  # one FD among the first 89, one after
+    lines = summary_lines([cycle] + extra[::-1], 1e-3)
+    fd = [x for x in lines if x.startswith("false discovery")]
+    assert fd[0].startswith("false discovery on clean (white noise): 2/121 = 2 %")
+    assert fd[1].startswith("false discovery on clean (white noise, cycle and first 89 extra clean (as --clean 89)): "
+                            "1/90 = 1 %")
+    assert len([x for x in summary_lines([cycle] + extra[:89], 1e-3) if x.startswith("false discovery")]) == 1
