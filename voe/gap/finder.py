@@ -97,7 +97,8 @@ class GapFinder:
                 checked = drift_step(self.problem_, self.location_, self.search_, checked, self.config, self.seed,
                                      ahead)
                 # the final model's test figures: it must not leave the typical test window departing more
-                self.checked_: Checked = worse_on_test(checked, self.problem_, self.config, self.location_.z_threshold)
+                self.checked_: Checked = worse_on_test(checked, self.problem_, self.config, self.location_.z_threshold,
+                                                       self.location_.null_episodes)
         return self
 
     # --- findings, read from the stage results ----------------------------------------------
