@@ -256,7 +256,7 @@ def deepened(p: Problem, model: FitResult, config: GapConfig, z_thr: float,
     ``point_attractor`` 4.8 -> 150.9), since the selection windows chose the model among the
     candidates' fits, and a fit trades windows against each other.
     """
-    pairs = test_pairs(p, model, config)[0]
+    pairs = heldout_pairs(p, model, config)[0]
     if not pairs:
         return []
     zb, za = window_zs(p.shooter, pairs, model.effect, p.sigma)  # (W,) each
@@ -442,11 +442,11 @@ def verify_on_test(p: Problem, model: FitResult | None, config: GapConfig, z_thr
     """Simulate the test episodes (each fold's own episode and parameters in cross-validation); the
     one test step that the acceptance checks (`check`) and the drift checks (`drift`) share."""
     effect = model.effect if model is not None else None
-    pairs, note = test_pairs(p, model, config)
+    pairs, note = heldout_pairs(p, model, config)
     return verify(p.shooter, pairs, effect, p.sigma, z_thr), note
 
 
-def test_pairs(p: Problem, model: FitResult | None, config: GapConfig) -> tuple[list[tuple], str]:
+def heldout_pairs(p: Problem, model: FitResult | None, config: GapConfig) -> tuple[list[tuple], str]:
     """The test windows, each with the parameters it is simulated at (each cross-validation fold's
     own), and a note saying which episodes they are."""
     if p.split.cross_validated:
