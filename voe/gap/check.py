@@ -39,7 +39,7 @@ from voe.gap.search import Round, gain_lower_bound, window_gain
 from voe.gap.shooting import Shooter
 from voe.gap.stages import GapConfig, Location, Problem, Search, fit_context, fit_windows
 from voe.gap.uncertainty import established, intervals
-from voe.gap.verify import Verification, verify, window_zs
+from voe.gap.verify import Verification, verify
 
 
 @dataclass(frozen=True)
@@ -219,7 +219,7 @@ def worse_on_test(c: Checked, p: Problem, config: GapConfig, z_thr: float,
         why = (f"on the test episodes the median window z rises from {v.median_z_before:.1f} to "
                f"{v.median_z_after:.1f}, above the located threshold z = {z_thr:.1f}: it does not carry over")
     else:
-        deep = deepened(p, c.model, config, z_thr, null_episodes) if null_episodes is not None else []
+        deep = deepened(p, c.model, config, z_thr, null_episodes, v) if null_episodes is not None else []
         if not deep:
             return c
         why = ("on the test episodes it adds an error that is itself a departure: " + ", ".join(
@@ -230,8 +230,8 @@ def worse_on_test(c: Checked, p: Problem, config: GapConfig, z_thr: float,
                    ver, note, np.zeros(0))
 
 
-def deepened(p: Problem, model: FitResult, config: GapConfig, z_thr: float,
-             null_episodes: list[Episode]) -> list[tuple[float, float, float]]:
+def deepened(p: Problem, model: FitResult, config: GapConfig, z_thr: float, null_episodes: list[Episode],
+             ver: Verification | None = None) -> list[tuple[float, float, float]]:
     """(z without, z with ``model``, z of the clean replicate) of each test window where ``model``
     adds an error that is itself a departure: the rise of the window's squared z, as a z,
     ``sqrt(z_with^2 - z_without^2)``, above both the located threshold ``z_thr`` and the clean
@@ -254,12 +254,14 @@ def deepened(p: Problem, model: FitResult, config: GapConfig, z_thr: float,
     against 16.7, which a bar on z itself (21.4 > 20.0 and the threshold) would have dropped.
     Not asked on the selection windows: there right names raise windows (1078034
     ``point_attractor`` 4.8 -> 150.9), since the selection windows chose the model among the
-    candidates' fits, and a fit trades windows against each other.
+    candidates' fits, and a fit trades windows against each other. ``ver``: the model's test
+    verification if at hand (its per-window z), so that the test windows are not simulated again.
     """
     pairs = heldout_pairs(p, model, config)[0]
     if not pairs:
         return []
-    zb, za = window_zs(p.shooter, pairs, model.effect, p.sigma)  # (W,) each
+    ver = ver if ver is not None and ver.z_before else verify_on_test(p, model, config, z_thr)[0]  # the model's own
+    zb, za = np.asarray(ver.z_before), np.asarray(ver.z_after)  # (W,) each
     null = Shooter(p.scene, null_episodes, p.substep, p.half)
     zn = window_z(null, [w for w, _ in pairs], p.sigma).max(axis=(1, 2))  # (W,) the data's windows on the replicate
     rise = np.sqrt(np.maximum(0.0, za ** 2 - zb ** 2))  # (W,)

@@ -35,6 +35,8 @@ class Verification:
     flagged_before: float
     flagged_after: float
     looks_like_noise: bool
+    z_before: tuple[float, ...] = ()  # (W,) each window's z without the model (``voe.gap.check.deepened``)
+    z_after: tuple[float, ...] = ()  # (W,) and with it
 
 
 def verify(shooter: Shooter, pairs: list[tuple[Window, np.ndarray | None]], effect: Effect | None,
@@ -44,30 +46,15 @@ def verify(shooter: Shooter, pairs: list[tuple[Window, np.ndarray | None]], effe
     if not windows:
         nan = float("nan")
         return Verification(nan, nan, nan, nan, nan, nan, nan, nan, nan, nan, False)
-    before, after, zb, za = _window_figures(shooter, pairs, effect, sigma)
+    before = shooter.residuals(windows, None, None)
+    after = _residuals_at(shooter, pairs, effect) if effect is not None else before
+    zb = window_z(shooter, windows, sigma, before).max(axis=(1, 2))  # (W,)
+    za = window_z(shooter, windows, sigma, after).max(axis=(1, 2))  # (W,)
     flagged_after = float(np.mean(za > z_thr))
     return Verification(rmse(before), rmse(after), position_rmse(before), position_rmse(after),
                         window_score(before), window_score(after),
                         float(np.median(zb)), float(np.median(za)), float(np.mean(zb > z_thr)), flagged_after,
-                        bool(flagged_after <= 0.1))
-
-
-def window_zs(shooter: Shooter, pairs: list[tuple[Window, np.ndarray | None]], effect: Effect | None,
-              sigma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(W,) each window's z without and with ``effect`` (at that window's parameters): the largest
-    over bodies and coordinates of the RMS residual in noise sigmas, as ``verify`` and the location
-    judge windows by."""
-    return _window_figures(shooter, pairs, effect, sigma)[2:]
-
-
-def _window_figures(shooter: Shooter, pairs: list[tuple[Window, np.ndarray | None]], effect: Effect | None,
-                    sigma: np.ndarray) -> tuple[list[np.ndarray], list[np.ndarray], np.ndarray, np.ndarray]:
-    """Residuals without and with ``effect``, and their window z-scores (W,) each."""
-    windows = [w for w, _ in pairs]
-    before = shooter.residuals(windows, None, None)
-    after = _residuals_at(shooter, pairs, effect) if effect is not None else before
-    return (before, after, window_z(shooter, windows, sigma, before).max(axis=(1, 2)),
-            window_z(shooter, windows, sigma, after).max(axis=(1, 2)))
+                        bool(flagged_after <= 0.1), tuple(map(float, zb)), tuple(map(float, za)))
 
 
 def _residuals_at(shooter: Shooter, pairs: list[tuple[Window, np.ndarray | None]], effect: Effect) -> list[np.ndarray]:
