@@ -49,6 +49,7 @@ class GapConfig:
     null_alpha: float = 0.05  # the threshold is the null's best gain at this upper quantile
     gain_lower_q: float | None = 0.05  # the gain's bootstrap quantile over selection windows must be > 0
     z_min: float = 5.0
+    deepen_factor: float = 2.0  # a test window's rise must pass this many times max(replicate z, threshold)
     fit: FitConfig = FitConfig()
 
 
