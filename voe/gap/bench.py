@@ -13,7 +13,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from voe.errors import DataError
 from voe.gap.bench_pendulum import double_pendulum_scene, random_start
+from voe.gap.bench_store import BenchStore
 from voe.gap.effects import EFFECTS
 from voe.gap.finder import GapConfig, GapFinder
 from voe.gap.recordings import Episode
@@ -269,14 +271,33 @@ def plan(cases: int, seed: int = 0, clean: int | None = None, truths: tuple[str,
 def run_bench(cases: int = 22, noise: float = 1e-3, seed: int = 0, jobs: int = 1, max_effects: int = 3,
               progress: Callable[[dict], None] | None = None, clean: int | None = None,
               truths: tuple[str, ...] = TRUTHS, episodes: int = 12, duration: float = 3.0, compound: int = 0,
-              outside: int = 0, clean_kinds: tuple[str, ...] = ("white",)) -> list[dict]:
-    """Run the cases of ``plan``; each has ``episodes`` recordings of ``duration`` seconds."""
+              outside: int = 0, clean_kinds: tuple[str, ...] = ("white",), store: BenchStore | None = None,
+              ) -> list[dict]:
+    """Run the cases of ``plan``; each has ``episodes`` recordings of ``duration`` seconds.
+
+    ``store``: case results already in it are taken from it (reported first, in plan order) and
+    not run again; every new result is appended to it as soon as it is known (``voe.gap.bench_store``).
+    Returns the results in plan order.
+    """
     rows = plan(cases, seed, clean, truths, compound, outside, clean_kinds)
-    todo = [(s, t, noise, max_effects, episodes, duration, nk) for s, t, nk, _ in rows]
     roles = {s: role for s, _, _, role in rows}
+    done = {} if store is None else store.done
+    for s, t, nk, _ in rows:  # a stored case must be the case the plan asks for
+        if s in done and (done[s].get("truth"), done[s].get("noise_kind")) != (t, nk):
+            raise DataError(f"bench results {store.path}: case {s} is {done[s].get('truth')}/"
+                            f"{done[s].get('noise_kind')}, the plan asks {t}/{nk}")
     results: list[dict] = []
+    for s, _, _, _ in rows:
+        if s in done:
+            results.append(done[s])
+            if progress:
+                progress(results[-1])
+    todo = [(s, t, noise, max_effects, episodes, duration, nk) for s, t, nk, _ in rows if s not in done]
     for r in parallel_map(run_case, todo, jobs):
         results.append({**r, "role": roles[r["seed"]], "extra": roles[r["seed"]] != "cycle"})
+        if store is not None:
+            store.add(results[-1])
         if progress:
             progress(results[-1])
-    return results
+    order = {s: i for i, (s, _, _, _) in enumerate(rows)}
+    return sorted(results, key=lambda r: order[r["seed"]])

@@ -1,0 +1,64 @@
+"""The bench's result store: a cut-off run resumes, results of other code or arguments are refused."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import voe.gap.bench as bench
+from voe.errors import DataError
+from voe.gap.bench_store import BenchStore
+
+RUN = {"cases": 4, "seed": 7, "clean": 2}
+
+
+def _fake(calls):
+    def run_case(args):
+        seed, truth, _, _, _, _, nk = args
+        calls.append(seed)
+        return {"seed": seed, "truth": truth, "noise_kind": nk, "names": [], "verdict": "consistent",
+                "param_error": float("nan"), "covered": np.bool_(True), "expressed": (np.int64(2), 5)}
+    return run_case
+
+
+def test_resume_runs_only_missing_cases(tmp_path, monkeypatch):
+    calls: list[int] = []
+    monkeypatch.setattr(bench, "run_case", _fake(calls))
+    path = tmp_path / "r.jsonl"
+    first = bench.run_bench(4, seed=7, clean=2, store=BenchStore(path, RUN))
+    assert calls == [7000, 7001, 7002, 7003, 7004, 7005]
+    # the machine stopped while the last case was being written: its line is cut off
+    lines = path.read_text().splitlines()
+    path.write_text("\n".join(lines[:-2]) + "\n" + lines[-1][:20])
+    calls.clear()
+    seen: list[int] = []
+    again = bench.run_bench(4, seed=7, clean=2, store=BenchStore(path, RUN), progress=lambda r: seen.append(r["seed"]))
+    assert calls == [7004, 7005]  # the cut-off line's case and the one never written
+    assert [r["seed"] for r in again] == [r["seed"] for r in first] == seen
+    assert again[0]["covered"] is True and again[0]["expressed"] == [2, 5]
+    assert len(BenchStore(path, RUN).done) == 6
+
+
+def test_other_arguments_or_code_refused(tmp_path, monkeypatch):
+    path = tmp_path / "r.jsonl"
+    BenchStore(path, RUN)
+    with pytest.raises(DataError, match=r"r\.jsonl.*other run arguments \(cases\)"):
+        BenchStore(path, {**RUN, "cases": 5})
+    header = json.loads(path.read_text().splitlines()[0])
+    path.write_text(json.dumps({**header, "code": "0" * 64}) + "\n")
+    with pytest.raises(DataError, match="made by other voe code"):
+        BenchStore(path, RUN)
+    path.write_text("not json\n")
+    with pytest.raises(DataError, match="not a JSON header"):
+        BenchStore(path, RUN)
+
+
+def test_broken_middle_line_refused(tmp_path):
+    path = tmp_path / "r.jsonl"
+    s = BenchStore(path, RUN)
+    s.add({"seed": 1, "truth": "none"})
+    path.write_text(path.read_text() + "{broken\n" + json.dumps({"seed": 2}) + "\n")
+    with pytest.raises(DataError, match="line 3 is not JSON"):
+        BenchStore(path, RUN)

@@ -1,0 +1,111 @@
+"""An append-only store of a gap bench run's case results, so a run can stop and resume.
+
+Why: an untouched bench run is hundreds of cases and hours of CPU on two cores (session 25's
+machine: about 47 s a case with ``--jobs 2``). A run cut off by a shut-down machine used to be
+lost whole, and restarting it was the only way to get its summary. Each finished case is
+appended here as one JSON line and flushed, so a restart with the same arguments and the same
+code runs only the cases that are missing, and the summary is printed from the stored results,
+never by running the finder again (``bench/gap_bench.py --score-only``).
+
+Format: the first line is a header (``{"voe_gap_bench": 1, "run": {...}, "code": sha256,
+"versions": {...}}``); every further line is one case's result dict. A line cut off mid-write
+(the machine stopped) is dropped when the file is opened again, and its case is run again. A header whose run arguments or code
+hash differ from the current ones is refused with one line naming the file: results of
+different code or a different plan must never be pooled into one summary.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+from pathlib import Path
+
+import numpy as np
+
+from voe.errors import DataError
+from voe.io.provenance import package_versions
+
+FORMAT = 1
+
+
+def code_hash() -> str:
+    """sha256 over the ``voe`` package's Python sources (relative names and contents, sorted):
+    which code made the results, independent of ``__pycache__`` and of where it is installed."""
+    root = Path(__file__).resolve().parents[1]
+    h = hashlib.sha256()
+    for f in sorted(root.rglob("*.py")):
+        h.update(f"{f.relative_to(root).as_posix()}\0".encode() + f.read_bytes() + b"\n")
+    return h.hexdigest()
+
+
+def _plain(x):
+    """JSON encoder fallback for numpy scalars and arrays in result dicts."""
+    if isinstance(x, np.generic):
+        return x.item()
+    if isinstance(x, np.ndarray):
+        return x.tolist()
+    raise TypeError(f"not JSON serialisable: {type(x).__name__}")
+
+
+class BenchStore:
+    """Case results of one bench run in a JSON-lines file.
+
+    Args:
+        path: the file; created with its header if absent.
+        run: the run's arguments that fix its cases and their outcome (seed, counts, noise,
+            episodes, duration, truths, clean kinds; not ``jobs``, which changes nothing).
+    """
+
+    def __init__(self, path: str | Path, run: dict) -> None:
+        self.path = Path(path)
+        self.run = json.loads(json.dumps(run, default=_plain))
+        self.code = code_hash()
+        self.done: dict[int, dict] = {}
+        if self.path.exists() and self.path.stat().st_size > 0:
+            self._read()
+        else:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            header = {"voe_gap_bench": FORMAT, "run": self.run, "code": self.code, "versions": package_versions()}
+            tmp = self.path.with_name(self.path.name + ".tmp")
+            tmp.write_text(json.dumps(header) + "\n")
+            os.replace(tmp, self.path)
+
+    def _read(self) -> None:
+        lines = self.path.read_text().split("\n")
+        try:
+            header = json.loads(lines[0])
+        except json.JSONDecodeError as exc:
+            raise DataError(f"bench results {self.path}: first line is not a JSON header ({exc.msg})") from exc
+        if not isinstance(header, dict) or header.get("voe_gap_bench") != FORMAT:
+            raise DataError(f"bench results {self.path}: not a voe gap bench results file (format {FORMAT})")
+        if header.get("run") != self.run:
+            diff = sorted(k for k in set(self.run) | set(header.get("run", {}))
+                          if self.run.get(k) != header.get("run", {}).get(k))
+            raise DataError(f"bench results {self.path}: made with other run arguments ({', '.join(diff)}); "
+                            "use another file")
+        if header.get("code") != self.code:
+            raise DataError(f"bench results {self.path}: made by other voe code (sources sha256 "
+                            f"{str(header.get('code'))[:12]} against {self.code[:12]}); use another file")
+        for n, line in enumerate(lines[1:], start=2):
+            if not line.strip():
+                continue
+            try:
+                r = json.loads(line)
+            except json.JSONDecodeError:
+                if n == len(lines):  # the last line, with no newline: cut off mid-write; dropped
+                    tmp = self.path.with_name(self.path.name + ".tmp")
+                    tmp.write_text("\n".join(lines[:-1]) + "\n")
+                    os.replace(tmp, self.path)
+                    continue
+                raise DataError(f"bench results {self.path}: line {n} is not JSON") from None
+            self.done[int(r["seed"])] = r
+
+    def add(self, result: dict) -> None:
+        """Append one case's result and flush it to disk before the next case is reported."""
+        line = json.dumps(result, default=_plain)
+        with open(self.path, "a") as fh:
+            fh.write(line + "\n")
+            fh.flush()
+            os.fsync(fh.fileno())
+        self.done[int(result["seed"])] = json.loads(line)
