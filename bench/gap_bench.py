@@ -3,11 +3,11 @@
 Usage: python bench/gap_bench.py [--cases 33] [--clean N] [--noise 0.001] [--jobs 2] [--truths a,b]
                                  [--episodes 12] [--duration 3] [--compound N] [--outside N]
                                  [--clean-kinds white,coloured] [--results runs/bench.jsonl [--score-only]]
-Same code as ``voe gap bench``; prints a confusion matrix, the false-discovery rate on clean
-recordings with its exact 95 % upper bound, parameter-recovery error and the median held-out
-RMSE reduction. ``--cases`` cycle through every truth (``none`` included); ``--clean`` extra clean
-cases are added on top (default: enough for 20 clean cases in all), and count only towards the
-false-discovery rate.
+Same code as ``voe gap bench`` (``voe.gap.bench_run``); prints a confusion matrix, the
+false-discovery rate on clean recordings with its exact 95 % upper bound, parameter-recovery error
+and the median held-out RMSE reduction. ``--cases`` cycle through every truth (``none`` included);
+``--clean`` extra clean cases are added on top (default: enough for 20 clean cases in all), and
+count only towards the false-discovery rate.
 
 ``--results FILE`` appends each case's result to FILE as it finishes; run again with the same
 arguments (and the same code) and only the missing cases run, so a run cut off by a stopped machine
@@ -18,13 +18,10 @@ running any (``voe.gap.bench_store``).
 from __future__ import annotations
 
 import argparse
-import os
-import time
 
 from voe.errors import VoeError
-from voe.gap.bench import NOISE_KINDS, TRUTHS, plan, run_bench
-from voe.gap.bench_score import summary_lines
-from voe.gap.bench_store import BenchStore
+from voe.gap.bench import NOISE_KINDS, TRUTHS
+from voe.gap.bench_run import BenchRun, bench_command
 
 
 def main() -> None:
@@ -43,35 +40,13 @@ def main() -> None:
     ap.add_argument("--results", default=None, help="JSON-lines file the case results are appended to (and resumed from)")
     ap.add_argument("--score-only", action="store_true", help="print the summary of the cases stored in --results; run none")
     a = ap.parse_args()
-    t0 = time.perf_counter()
-    truths = tuple(a.truths.split(","))
-    run = {"cases": a.cases, "noise": a.noise, "seed": a.seed, "clean": a.clean, "truths": list(truths),
-           "episodes": a.episodes, "duration": a.duration, "compound": a.compound, "outside": a.outside,
-           "clean_kinds": a.clean_kinds.split(",")}
     try:
-        store = BenchStore(a.results, run) if a.results else None
+        run = BenchRun(cases=a.cases, noise=a.noise, seed=a.seed, clean=a.clean, truths=tuple(a.truths.split(",")),
+                       episodes=a.episodes, duration=a.duration, compound=a.compound, outside=a.outside,
+                       clean_kinds=tuple(a.clean_kinds.split(",")))
+        bench_command(run, a.jobs, a.results, a.score_only, echo=lambda s: print(s, flush=True))
     except VoeError as exc:
         raise SystemExit(f"gap_bench: error: {exc}") from None
-    if a.score_only:
-        if store is None:
-            raise SystemExit("gap_bench: error: --score-only needs --results FILE")
-        rows = plan(a.cases, a.seed, a.clean, truths, a.compound, a.outside, tuple(a.clean_kinds.split(",")))
-        results = [store.done[s] for s, _, _, _ in rows if s in store.done]
-        print(f"scored from {a.results}: {len(results)} of {len(rows)} planned cases stored (none run now)")
-        for line in summary_lines(results, a.noise):
-            print(line)
-        return
-    results = run_bench(a.cases, a.noise, a.seed, a.jobs, clean=a.clean, truths=truths, episodes=a.episodes,
-                        duration=a.duration, compound=a.compound, outside=a.outside,
-                        clean_kinds=tuple(a.clean_kinds.split(",")), store=store, progress=lambda r: print(
-        f"  case {r['seed']}: true {r['truth']:<26} {r['noise_kind']:<8} named {','.join(r['names']) or '-':<26} "
-        f"{r['verdict']:<11} rmse {r['before']:.4g} -> {r['after']:.4g} param_err {r['param_error']:.3f} "
-        f"covered {r['covered']}" + (f" dropped {','.join(r['dropped'])}" if r.get("dropped") else "")
-        + (f" expressed {r['expressed'][0]}/{r['expressed'][1]}" if r.get("expressed") else ""), flush=True))
-    for line in summary_lines(results, a.noise):
-        print(line)
-    print(f"wall time {time.perf_counter() - t0:.0f} s for {len(results)} cases (--jobs {a.jobs}, "
-          f"load average {os.getloadavg()[0]:.1f})")
 
 
 if __name__ == "__main__":

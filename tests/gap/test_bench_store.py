@@ -10,6 +10,7 @@ import pytest
 import voe.gap.bench as bench
 from voe.errors import DataError
 from voe.gap.bench_store import BenchStore
+from voe.gap.truths import kind
 
 RUN = {"cases": 4, "seed": 7, "clean": 2}
 
@@ -18,8 +19,10 @@ def _fake(calls):
     def run_case(args):
         seed, truth, _, _, _, _, nk = args
         calls.append(seed)
-        return {"seed": seed, "truth": truth, "noise_kind": nk, "names": [], "verdict": "consistent",
-                "param_error": float("nan"), "covered": np.bool_(True), "expressed": (np.int64(2), 5)}
+        return {"seed": seed, "truth": truth, "kind": kind(truth), "noise_kind": nk, "found": "none", "names": [],
+                "group": [], "verdict": "consistent", "located": 0, "n_effects": 0, "dropped": [], "null_strength": 0,
+                "before": 0.01, "after": 0.01, "param_error": float("nan"), "covered": np.bool_(True),
+                "expressed": (np.int64(2), 5)}
     return run_case
 
 
@@ -62,3 +65,37 @@ def test_broken_middle_line_refused(tmp_path):
     path.write_text(path.read_text() + "{broken\n" + json.dumps({"seed": 2}) + "\n")
     with pytest.raises(DataError, match="line 3 is not JSON"):
         BenchStore(path, RUN)
+
+
+def test_command_and_cli_print_the_same_lines_and_score_from_the_store(tmp_path, monkeypatch):
+    from typer.testing import CliRunner
+
+    from voe.cli.main import app
+    from voe.gap.bench_run import BenchRun, bench_command
+
+    calls: list[int] = []
+    monkeypatch.setattr(bench, "run_case", _fake(calls))
+    path = tmp_path / "r.jsonl"
+    lines: list[str] = []
+    bench_command(BenchRun(cases=3, seed=2, clean=1, clean_kinds=("coloured",)), results=str(path), echo=lines.append)
+    assert calls == [2000, 2001, 2002, 2003]
+    assert lines[0].startswith("  case 2000: true none") and "coloured" in lines[3]
+    assert any(s.startswith("false discovery on clean (coloured noise): 0/1") for s in lines)
+    calls.clear()
+    res = CliRunner().invoke(app, ["gap", "bench", "--cases", "3", "--seed", "2", "--clean", "1",
+                                   "--clean-kinds", "coloured", "--results", str(path), "--score-only"])
+    assert res.exit_code == 0, res.output
+    assert calls == []  # scored from the store, nothing run
+    assert "scored from" in res.output and "4 of 4 planned cases stored" in res.output
+    assert [s for s in lines if s.startswith("single-effect")] == \
+        [s for s in res.output.splitlines() if s.startswith("single-effect")]
+
+
+def test_unknown_truth_and_missing_store_are_one_line_errors(tmp_path):
+    from tests.reliability.cli import assert_one_line_error, run_voe
+
+    assert_one_line_error(run_voe("gap", "bench", "--truths", "lineardrag"),
+                          "unknown bench truth 'lineardrag'; did you mean 'linear_drag'")
+    missing = tmp_path / "none.jsonl"
+    assert_one_line_error(run_voe("gap", "bench", "--results", missing, "--score-only"), str(missing), "no such file")
+    assert not missing.exists()

@@ -62,19 +62,26 @@ def diagnose_cmd(
 
 @app.command("bench")
 def bench_cmd(
-    cases: int = typer.Option(22, "--cases", help="number of concealed-effect cases"),
+    cases: int = typer.Option(22, "--cases", help="cases cycling through the single truths (none included)"),
     noise: float = typer.Option(0.001, "--noise", help="position noise in m"),
     seed: int = typer.Option(0, "--seed"),
-    jobs: int = typer.Option(1, "--jobs", help="worker processes"),
+    jobs: int = typer.Option(1, "--jobs", min=1, help="worker processes"),
+    clean: int = typer.Option(None, "--clean", help="extra clean cases (default: up to 20 clean in all)"),
+    truths: str = typer.Option("", "--truths", help="comma-separated single truths to cycle through (default: all)"),
+    episodes: int = typer.Option(12, "--episodes", help="episodes per case"),
+    duration: float = typer.Option(3.0, "--duration", help="seconds per episode"),
+    compound: int = typer.Option(0, "--compound", help="cases cycling through the two-effect truths"),
+    outside: int = typer.Option(0, "--outside", help="cases cycling through the out-of-library truths"),
+    clean_kinds: str = typer.Option("white,coloured", "--clean-kinds", help="noise of the extra clean cases"),
+    results: Path = typer.Option(None, "--results", help="JSON-lines store: each case appended as it ends; a rerun resumes"),
+    score_only: bool = typer.Option(False, "--score-only", help="print the summary of the cases in --results; run none"),
 ) -> None:
     """Benchmark identification on recordings with a concealed random effect (or none)."""
-    from voe.gap.bench import run_bench
-    from voe.gap.bench_score import summary_lines
+    from voe.gap.bench import TRUTHS
+    from voe.gap.bench_run import BenchRun, bench_command
 
-    def show(r: dict) -> None:
-        typer.echo(f"  case {r['seed']}: true {r['truth']:<22} named {','.join(r['names']) or '-':<22} "
-                   f"rmse {r['before']:.4g} -> {r['after']:.4g}")
-
-    results = run_bench(cases, noise, seed, jobs, progress=show)
-    for line in summary_lines(results, noise):
-        typer.echo(line)
+    run = BenchRun(cases=cases, noise=noise, seed=seed, clean=clean,
+                   truths=tuple(t.strip() for t in truths.split(",") if t.strip()) or TRUTHS,
+                   episodes=episodes, duration=duration, compound=compound, outside=outside,
+                   clean_kinds=tuple(k.strip() for k in clean_kinds.split(",") if k.strip()))
+    bench_command(run, jobs, str(results) if results else None, score_only, echo=typer.echo)

@@ -55,16 +55,21 @@ class BenchStore:
         path: the file; created with its header if absent.
         run: the run's arguments that fix its cases and their outcome (seed, counts, noise,
             episodes, duration, truths, clean kinds; not ``jobs``, which changes nothing).
+        same_code: refuse a file made by other ``voe`` sources (to add cases to it); False only to
+            read and score what is stored (``made_by`` then says which code made it).
     """
 
-    def __init__(self, path: str | Path, run: dict) -> None:
+    def __init__(self, path: str | Path, run: dict, same_code: bool = True) -> None:
         self.path = Path(path)
+        self.same_code = same_code
+        self.made_by: str | None = None  # the sources sha256 the stored results were made by
         self.run = json.loads(json.dumps(run, default=_plain))
         self.code = code_hash()
         self.done: dict[int, dict] = {}
         if self.path.exists() and self.path.stat().st_size > 0:
             self._read()
         else:
+            self.made_by = self.code
             self.path.parent.mkdir(parents=True, exist_ok=True)
             header = {"voe_gap_bench": FORMAT, "run": self.run, "code": self.code, "versions": package_versions()}
             tmp = self.path.with_name(self.path.name + ".tmp")
@@ -84,7 +89,8 @@ class BenchStore:
                           if self.run.get(k) != header.get("run", {}).get(k))
             raise DataError(f"bench results {self.path}: made with other run arguments ({', '.join(diff)}); "
                             "use another file")
-        if header.get("code") != self.code:
+        self.made_by = str(header.get("code"))
+        if self.same_code and header.get("code") != self.code:
             raise DataError(f"bench results {self.path}: made by other voe code (sources sha256 "
                             f"{str(header.get('code'))[:12]} against {self.code[:12]}); use another file")
         for n, line in enumerate(lines[1:], start=2):

@@ -1,0 +1,92 @@
+"""The gap bench as a command: run (or resume) the cases, print a line per case and the summary.
+
+Why one place: ``bench/gap_bench.py`` (the form the README's untouched runs quote) and
+``voe gap bench`` (the CLI) used to parse their own options and print their own case lines, and
+the CLI had lost the compound, out-of-library, clean-noise and store options. Both now call
+``bench_command``, so the two print the same lines for the same arguments.
+"""
+
+from __future__ import annotations
+
+import difflib
+import os
+import time
+from collections.abc import Callable
+from dataclasses import asdict, dataclass
+
+from voe.errors import DataError, UnknownNameError
+from voe.gap.bench import NOISE_KINDS, TRUTHS, plan, run_bench
+from voe.gap.bench_score import summary_lines
+from voe.gap.bench_store import BenchStore
+
+
+@dataclass(frozen=True)
+class BenchRun:
+    """The arguments that fix a bench run's cases and their outcome (``jobs`` does not).
+
+    ``cases`` cycle through ``truths`` (``none`` included); ``compound`` and ``outside`` cycle
+    through the two-effect and out-of-library truths; ``clean`` extra clean cases (None: enough
+    for 20 clean in all) cycle through ``clean_kinds`` noise.
+    """
+
+    cases: int = 33
+    noise: float = 1e-3
+    seed: int = 0
+    clean: int | None = None
+    truths: tuple[str, ...] = TRUTHS
+    episodes: int = 12
+    duration: float = 3.0
+    compound: int = 0
+    outside: int = 0
+    clean_kinds: tuple[str, ...] = ("white", "coloured")
+
+    def __post_init__(self) -> None:
+        for kind, names, known in (("truth", self.truths, TRUTHS), ("noise kind", self.clean_kinds, NOISE_KINDS)):
+            for n in names:
+                if n not in known:
+                    close = difflib.get_close_matches(n, known, n=3, cutoff=0.5)
+                    hint = f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
+                    raise UnknownNameError(f"unknown bench {kind} '{n}'{hint} (known: {', '.join(known)})")
+
+    def store_key(self) -> dict:
+        return {k: list(v) if isinstance(v, tuple) else v for k, v in asdict(self).items()}
+
+
+def case_line(r: dict) -> str:
+    """One case as the bench prints it (the untouched runs' case files are these lines)."""
+    return (f"  case {r['seed']}: true {r['truth']:<26} {r['noise_kind']:<8} named {','.join(r['names']) or '-':<26} "
+            f"{r['verdict']:<11} rmse {r['before']:.4g} -> {r['after']:.4g} param_err {r['param_error']:.3f} "
+            f"covered {r['covered']}" + (f" dropped {','.join(r['dropped'])}" if r.get("dropped") else "")
+            + (f" expressed {r['expressed'][0]}/{r['expressed'][1]}" if r.get("expressed") else ""))
+
+
+def bench_command(run: BenchRun, jobs: int = 1, results: str | None = None, score_only: bool = False,
+                  echo: Callable[[str], None] = print) -> list[dict]:
+    """Run ``run`` (resuming from the store ``results`` if given) or, with ``score_only``, score
+    the cases stored there; ``echo`` each case line and the summary. Returns the results.
+
+    Raises:
+        DataError: ``results`` was made by other code or arguments, or ``score_only`` without it.
+    """
+    t0 = time.perf_counter()
+    if score_only and not results:
+        raise DataError("gap bench: --score-only needs --results FILE")
+    if score_only and not os.path.isfile(results):
+        raise DataError(f"bench results {results}: no such file to score")
+    store = BenchStore(results, run.store_key(), same_code=not score_only) if results else None
+    if score_only:
+        rows = plan(run.cases, run.seed, run.clean, run.truths, run.compound, run.outside, run.clean_kinds)
+        out = [store.done[s] for s, _, _, _ in rows if s in store.done]
+        echo(f"scored from {results}: {len(out)} of {len(rows)} planned cases stored (none run now), made by voe "
+             f"sources sha256 {store.made_by[:12]}" + ("" if store.made_by == store.code else
+                                                      f" (this code: {store.code[:12]})"))
+    else:
+        out = run_bench(run.cases, run.noise, run.seed, jobs, clean=run.clean, truths=run.truths,
+                        episodes=run.episodes, duration=run.duration, compound=run.compound, outside=run.outside,
+                        clean_kinds=run.clean_kinds, store=store, progress=lambda r: echo(case_line(r)))
+    for line in summary_lines(out, run.noise):
+        echo(line)
+    if not score_only:
+        echo(f"wall time {time.perf_counter() - t0:.0f} s for {len(out)} cases (--jobs {jobs}, "
+             f"load average {os.getloadavg()[0]:.1f})")
+    return out
