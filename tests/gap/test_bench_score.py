@@ -43,3 +43,29 @@ def test_false_discovery_is_also_printed_on_the_earlier_runs_clean_cases():
     assert fd[1].startswith("false discovery on clean (white noise, cycle and first 89 extra clean (as --clean 89)): "
                             "1/90 = 1 %")
     assert len([x for x in summary_lines([cycle] + extra[:89], 1e-3) if x.startswith("false discovery")]) == 1
+
+
+def test_targets_are_judged_unrounded():
+    """123/130 = 94.6 % printed "95 %" in earlier runs; the target lines judge the exact counts,
+    and an out-of-library case left ``consistent`` fails "the rest named correctly or unexplained"."""
+    from voe.gap.bench_score import target_lines, targets
+
+    def cycle(n_right, n):
+        return [_case("mass", ["mass"] if i < n_right else []) for i in range(n)]
+
+    def met(results, prefix):
+        return next(ok for name, ok in targets(results) if name.startswith(prefix))
+
+    assert met(cycle(123, 130), "singles") is False  # 94.6 %
+    assert met(cycle(124, 130), "singles") is True  # 95.4 %, CP lower bound 90.2 %
+    assert met(cycle(105, 110), "singles") is False  # 95.5 % but CP lower bound 89.7 %
+    patch = {**_case("floor_patch", [], "outside", "unexplained"), "located": 3}
+    quiet = {**_case("floor_patch", [], "outside", "consistent"), "located": 0}
+    wrong = {**_case("gust", ["linear_drag"], "outside"), "located": 3}
+    assert met([patch] * 9 + [wrong], "out-of-library misnamed") is True
+    assert met([patch] * 9 + [wrong], "out-of-library, the rest") is True
+    assert met([patch] * 8 + [quiet, wrong], "out-of-library, the rest") is False
+    assert met([patch] * 8 + [wrong, wrong], "out-of-library misnamed") is False
+    assert met(cycle(5, 5), "compounds") is None  # no compound case: not shown
+    last = target_lines(cycle(123, 130))[-1]
+    assert last.startswith("targets met: ") and "not met: " in last and "singles" in last
