@@ -12,7 +12,10 @@ count only towards the false-discovery rate.
 ``--results FILE`` appends each case's result to FILE as it finishes; run again with the same
 arguments (and the same code) and only the missing cases run, so a run cut off by a stopped machine
 resumes instead of starting over. ``--score-only`` prints the summary of the stored cases without
-running any (``voe.gap.bench_store``).
+running any (``voe.gap.bench_store``). ``--shard I/N`` runs every N-th case from the I-th, so a
+SLURM job array spreads one run over nodes (``--shard $SLURM_ARRAY_TASK_ID/N --results
+runs/b.$SLURM_ARRAY_TASK_ID.jsonl``); ``--score-only --results runs/b.0.jsonl,runs/b.1.jsonl,...``
+then prints the whole run's summary.
 """
 
 from __future__ import annotations
@@ -38,13 +41,15 @@ def main() -> None:
     ap.add_argument("--outside", type=int, default=0, help="cases cycling through the out-of-library truths")
     ap.add_argument("--clean-kinds", default="white,coloured", help=f"noise of the extra clean cases, from {NOISE_KINDS}")
     ap.add_argument("--results", default=None, help="JSON-lines file the case results are appended to (and resumed from)")
-    ap.add_argument("--score-only", action="store_true", help="print the summary of the cases stored in --results; run none")
+    ap.add_argument("--score-only", action="store_true", help="print the summary of the cases stored in --results "
+                    "(FILE,FILE,...: the shards of one run); run none")
+    ap.add_argument("--shard", default=None, help="I/N: run part I of N only, e.g. $SLURM_ARRAY_TASK_ID/8 (one --results file each)")
     a = ap.parse_args()
     try:
         run = BenchRun(cases=a.cases, noise=a.noise, seed=a.seed, clean=a.clean, truths=tuple(a.truths.split(",")),
                        episodes=a.episodes, duration=a.duration, compound=a.compound, outside=a.outside,
                        clean_kinds=tuple(a.clean_kinds.split(",")))
-        bench_command(run, a.jobs, a.results, a.score_only, echo=lambda s: print(s, flush=True))
+        bench_command(run, a.jobs, a.results, a.score_only, a.shard, echo=lambda s: print(s, flush=True))
     except VoeError as exc:
         raise SystemExit(f"gap_bench: error: {exc}") from None
 

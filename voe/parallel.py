@@ -197,3 +197,17 @@ def _serial(fn: Callable[[T], R], items: Iterable[T], progress: Callable[[int], 
         yield result
         if progress:
             progress(1)
+
+
+def parse_shard(text: str) -> tuple[int, int]:
+    """``"I/N"`` -> ``(I, N)``: this process does part I (0-based) of N, as one task of a SLURM job
+    array (``--shard $SLURM_ARRAY_TASK_ID/N``) does. Work that spreads over nodes goes through the
+    scheduler's arrays; voe only says which part is whose (``voe score --shard``, ``voe gap bench --shard``).
+
+    Raises:
+        VoeError: not two whole numbers with 0 <= I < N.
+    """
+    i, _, n = text.partition("/")
+    if not (i.isdigit() and n.isdigit() and 0 <= int(i) < int(n)):
+        raise VoeError(f"--shard must be I/N with 0 <= I < N (e.g. $SLURM_ARRAY_TASK_ID/8), not {text!r}")
+    return int(i), int(n)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import voe.gap.bench as bench
-from voe.errors import DataError
+from voe.errors import DataError, VoeError
 from voe.gap.bench_store import BenchStore
 from voe.gap.truths import kind
 
@@ -99,3 +99,27 @@ def test_unknown_truth_and_missing_store_are_one_line_errors(tmp_path):
     missing = tmp_path / "none.jsonl"
     assert_one_line_error(run_voe("gap", "bench", "--results", missing, "--score-only"), str(missing), "no such file")
     assert not missing.exists()
+
+
+def test_shards_of_a_job_array_score_together_as_the_whole_run(tmp_path, monkeypatch):
+    from voe.gap.bench_run import BenchRun, bench_command
+
+    calls: list[int] = []
+    monkeypatch.setattr(bench, "run_case", _fake(calls))
+    run = BenchRun(cases=5, seed=3, clean=2, compound=2)
+    whole: list[str] = []
+    bench_command(run, results=str(tmp_path / "all.jsonl"), echo=whole.append)
+    calls.clear()
+    files = []
+    for i in range(3):  # three array tasks, each with its own store
+        files.append(str(tmp_path / f"s{i}.jsonl"))
+        bench_command(run, results=files[-1], shard=f"{i}/3", echo=lambda s: None)
+    assert sorted(calls) == list(range(3000, 3009)) and len(calls) == 9  # every case once
+    merged: list[str] = []
+    bench_command(run, results=",".join(files), score_only=True, echo=merged.append)
+    summary = lambda lines: [s for s in lines if not s.startswith(("  case", "scored from", "wall time"))]  # noqa: E731
+    assert summary(merged) == summary(whole)
+    with pytest.raises(DataError, match="holds shard"):  # a shard's store is not another shard's
+        bench_command(run, results=files[0], shard="1/3", echo=lambda s: None)
+    with pytest.raises(VoeError, match="--shard must be I/N"):
+        bench_command(run, shard="3/3", echo=lambda s: None)

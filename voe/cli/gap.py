@@ -73,8 +73,11 @@ def bench_cmd(
     compound: int = typer.Option(0, "--compound", help="cases cycling through the two-effect truths"),
     outside: int = typer.Option(0, "--outside", help="cases cycling through the out-of-library truths"),
     clean_kinds: str = typer.Option("white,coloured", "--clean-kinds", help="noise of the extra clean cases"),
-    results: Path = typer.Option(None, "--results", help="JSON-lines store: each case appended as it ends; a rerun resumes"),
-    score_only: bool = typer.Option(False, "--score-only", help="print the summary of the cases in --results; run none"),
+    results: str = typer.Option(None, "--results", help="JSON-lines store: each case appended as it ends; a rerun resumes"),
+    score_only: bool = typer.Option(False, "--score-only", help="print the summary of the cases in --results "
+                                    "(FILE,FILE,...: the shards of one run); run none"),
+    shard: str = typer.Option(None, "--shard", help="I/N: run part I of N only (a SLURM array task: "
+                              "$SLURM_ARRAY_TASK_ID/N), one --results file per shard"),
 ) -> None:
     """Benchmark identification on recordings with a concealed random effect (or none)."""
     from voe.gap.bench import TRUTHS
@@ -84,4 +87,4 @@ def bench_cmd(
                    truths=tuple(t.strip() for t in truths.split(",") if t.strip()) or TRUTHS,
                    episodes=episodes, duration=duration, compound=compound, outside=outside,
                    clean_kinds=tuple(k.strip() for k in clean_kinds.split(",") if k.strip()))
-    bench_command(run, jobs, str(results) if results else None, score_only, echo=typer.echo)
+    bench_command(run, jobs, results, score_only, shard, echo=typer.echo)

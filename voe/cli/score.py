@@ -69,13 +69,11 @@ class _Bar:
 
 def _shard(text: str):
     """``I/N`` -> the ranks of one job-array task (0-based I)."""
-    from voe.errors import VoeError
+    from voe.parallel import parse_shard
     from voe.scoring.distributed import Ranks
 
-    i, _, n = text.partition("/")
-    if not (i.isdigit() and n.isdigit() and 0 <= int(i) < int(n)):
-        raise VoeError(f"--shard must be I/N with 0 <= I < N (e.g. $SLURM_ARRAY_TASK_ID/8), not {text!r}")
-    return Ranks(int(i), int(n), "shard")
+    i, n = parse_shard(text)
+    return Ranks(i, n, "shard")
 
 
 def _external(o: _Opts) -> None:

@@ -272,14 +272,18 @@ def run_bench(cases: int = 22, noise: float = 1e-3, seed: int = 0, jobs: int = 1
               progress: Callable[[dict], None] | None = None, clean: int | None = None,
               truths: tuple[str, ...] = TRUTHS, episodes: int = 12, duration: float = 3.0, compound: int = 0,
               outside: int = 0, clean_kinds: tuple[str, ...] = ("white",), store: BenchStore | None = None,
-              ) -> list[dict]:
+              shard: tuple[int, int] | None = None) -> list[dict]:
     """Run the cases of ``plan``; each has ``episodes`` recordings of ``duration`` seconds.
 
     ``store``: case results already in it are taken from it (reported first, in plan order) and
     not run again; every new result is appended to it as soon as it is known (``voe.gap.bench_store``).
+    ``shard`` ``(I, N)``: only the plan's rows I, I + N, I + 2N, ... (one task of a job array; the
+    shards' stores are scored together with ``voe.gap.bench_store.read_stores``).
     Returns the results in plan order.
     """
     rows = plan(cases, seed, clean, truths, compound, outside, clean_kinds)
+    if shard is not None:
+        rows = rows[shard[0]::shard[1]]
     roles = {s: role for s, _, _, role in rows}
     done = {} if store is None else store.done
     for s, t, nk, _ in rows:  # a stored case must be the case the plan asks for

@@ -17,7 +17,8 @@ from dataclasses import asdict, dataclass
 from voe.errors import DataError, UnknownNameError
 from voe.gap.bench import NOISE_KINDS, TRUTHS, plan, run_bench
 from voe.gap.bench_score import summary_lines
-from voe.gap.bench_store import BenchStore
+from voe.gap.bench_store import BenchStore, code_hash, read_stores
+from voe.parallel import parse_shard
 
 
 @dataclass(frozen=True)
@@ -61,29 +62,43 @@ def case_line(r: dict) -> str:
 
 
 def bench_command(run: BenchRun, jobs: int = 1, results: str | None = None, score_only: bool = False,
-                  echo: Callable[[str], None] = print) -> list[dict]:
+                  shard: str | None = None, echo: Callable[[str], None] = print) -> list[dict]:
     """Run ``run`` (resuming from the store ``results`` if given) or, with ``score_only``, score
-    the cases stored there; ``echo`` each case line and the summary. Returns the results.
+    the cases stored in ``results`` (comma-separated files: the shards of one run); ``echo`` each
+    case line and the summary. Returns the results.
+
+    ``shard`` ``"I/N"``: run part I of N only (a SLURM array task: ``--shard $SLURM_ARRAY_TASK_ID/N``,
+    each task with its own ``--results`` file); its summary covers its own cases only.
 
     Raises:
-        DataError: ``results`` was made by other code or arguments, or ``score_only`` without it.
+        DataError: a store made by other code or arguments, ``score_only`` without one, or several
+            stores for one running shard.
     """
     t0 = time.perf_counter()
-    if score_only and not results:
-        raise DataError("gap bench: --score-only needs --results FILE")
-    if score_only and not os.path.isfile(results):
-        raise DataError(f"bench results {results}: no such file to score")
-    store = BenchStore(results, run.store_key(), same_code=not score_only) if results else None
+    files = [f for f in (results or "").split(",") if f]
+    part = parse_shard(shard) if shard else None
     if score_only:
+        if not files:
+            raise DataError("gap bench: --score-only needs --results FILE[,FILE...]")
+        if part is not None:
+            raise DataError("gap bench: --score-only scores every shard's file together; drop --shard")
+        done, codes = read_stores(files, run.store_key())
         rows = plan(run.cases, run.seed, run.clean, run.truths, run.compound, run.outside, run.clean_kinds)
-        out = [store.done[s] for s, _, _, _ in rows if s in store.done]
-        echo(f"scored from {results}: {len(out)} of {len(rows)} planned cases stored (none run now), made by voe "
-             f"sources sha256 {store.made_by[:12]}" + ("" if store.made_by == store.code else
-                                                      f" (this code: {store.code[:12]})"))
+        out = [done[s] for s, _, _, _ in rows if s in done]
+        here = code_hash()
+        echo(f"scored from {', '.join(files)}: {len(out)} of {len(rows)} planned cases stored (none run now), made by "
+             f"voe sources sha256 {', '.join(sorted({c[:12] for c in codes}))}"
+             + ("" if set(codes) == {here} else f" (this code: {here[:12]})"))
     else:
+        if len(files) > 1:
+            raise DataError("gap bench: a running bench stores into one --results file (one per --shard)")
+        store = BenchStore(files[0], run.store_key(), shard=part) if files else None
         out = run_bench(run.cases, run.noise, run.seed, jobs, clean=run.clean, truths=run.truths,
                         episodes=run.episodes, duration=run.duration, compound=run.compound, outside=run.outside,
-                        clean_kinds=run.clean_kinds, store=store, progress=lambda r: echo(case_line(r)))
+                        clean_kinds=run.clean_kinds, store=store, shard=part, progress=lambda r: echo(case_line(r)))
+    if part is not None:
+        echo(f"shard {part[0]}/{part[1]}: {len(out)} cases; score every shard's file together with "
+             "--score-only --results FILE,FILE,...")
     for line in summary_lines(out, run.noise):
         echo(line)
     if not score_only:

@@ -49,29 +49,37 @@ def _plain(x):
 
 
 class BenchStore:
-    """Case results of one bench run in a JSON-lines file.
+    """Case results of one bench run (or one shard of it) in a JSON-lines file.
 
     Args:
-        path: the file; created with its header if absent.
+        path: the file; created with its header if absent (append mode).
         run: the run's arguments that fix its cases and their outcome (seed, counts, noise,
             episodes, duration, truths, clean kinds; not ``jobs``, which changes nothing).
-        same_code: refuse a file made by other ``voe`` sources (to add cases to it); False only to
-            read and score what is stored (``made_by`` then says which code made it).
+        shard: ``(I, N)`` if this file holds part I of N of the run (``--shard``), else None.
+        read_only: only read and score what is stored: the file must exist and is never
+            rewritten, and it may have been made by other ``voe`` sources or another shard
+            (``made_by`` says which code). Otherwise (append mode) a file made by other sources or
+            for another shard is refused, so that results of different code are never pooled.
     """
 
-    def __init__(self, path: str | Path, run: dict, same_code: bool = True) -> None:
+    def __init__(self, path: str | Path, run: dict, shard: tuple[int, int] | None = None,
+                 read_only: bool = False) -> None:
         self.path = Path(path)
-        self.same_code = same_code
-        self.made_by: str | None = None  # the sources sha256 the stored results were made by
+        self.read_only = read_only
         self.run = json.loads(json.dumps(run, default=_plain))
+        self.shard = list(shard) if shard else None
         self.code = code_hash()
+        self.made_by: str | None = None  # the sources sha256 the stored results were made by
         self.done: dict[int, dict] = {}
         if self.path.exists() and self.path.stat().st_size > 0:
             self._read()
+        elif read_only:
+            raise DataError(f"bench results {self.path}: no such file to score")
         else:
             self.made_by = self.code
             self.path.parent.mkdir(parents=True, exist_ok=True)
-            header = {"voe_gap_bench": FORMAT, "run": self.run, "code": self.code, "versions": package_versions()}
+            header = {"voe_gap_bench": FORMAT, "run": self.run, "shard": self.shard, "code": self.code,
+                      "versions": package_versions()}
             tmp = self.path.with_name(self.path.name + ".tmp")
             tmp.write_text(json.dumps(header) + "\n")
             os.replace(tmp, self.path)
@@ -90,28 +98,49 @@ class BenchStore:
             raise DataError(f"bench results {self.path}: made with other run arguments ({', '.join(diff)}); "
                             "use another file")
         self.made_by = str(header.get("code"))
-        if self.same_code and header.get("code") != self.code:
+        if not self.read_only and header.get("code") != self.code:
             raise DataError(f"bench results {self.path}: made by other voe code (sources sha256 "
-                            f"{str(header.get('code'))[:12]} against {self.code[:12]}); use another file")
+                            f"{self.made_by[:12]} against {self.code[:12]}); use another file")
+        if not self.read_only and header.get("shard") != self.shard:
+            raise DataError(f"bench results {self.path}: holds shard {header.get('shard')}, not {self.shard}; "
+                            "use another file")
         for n, line in enumerate(lines[1:], start=2):
             if not line.strip():
                 continue
             try:
                 r = json.loads(line)
             except json.JSONDecodeError:
-                if n == len(lines):  # the last line, with no newline: cut off mid-write; dropped
-                    tmp = self.path.with_name(self.path.name + ".tmp")
-                    tmp.write_text("\n".join(lines[:-1]) + "\n")
-                    os.replace(tmp, self.path)
+                if n == len(lines):  # the last line, with no newline: cut off mid-write
+                    if not self.read_only:  # dropped, so the next case starts a line of its own
+                        tmp = self.path.with_name(self.path.name + ".tmp")
+                        tmp.write_text("\n".join(lines[:-1]) + "\n")
+                        os.replace(tmp, self.path)
                     continue
                 raise DataError(f"bench results {self.path}: line {n} is not JSON") from None
             self.done[int(r["seed"])] = r
 
     def add(self, result: dict) -> None:
         """Append one case's result and flush it to disk before the next case is reported."""
+        if self.read_only:
+            raise DataError(f"bench results {self.path}: opened read-only")
         line = json.dumps(result, default=_plain)
         with open(self.path, "a") as fh:
             fh.write(line + "\n")
             fh.flush()
             os.fsync(fh.fileno())
         self.done[int(result["seed"])] = json.loads(line)
+
+
+def read_stores(paths: list[str | Path], run: dict) -> tuple[dict[int, dict], list[str]]:
+    """The cases stored in ``paths`` (the shards of one run, or one whole run), merged, and the
+    sources sha256 of each file. A case stored twice must be stored alike."""
+    done: dict[int, dict] = {}
+    codes = []
+    for p in paths:
+        st = BenchStore(p, run, read_only=True)
+        codes.append(st.made_by or "")
+        for seed, r in st.done.items():
+            if seed in done and done[seed] != r:
+                raise DataError(f"bench results {p}: case {seed} differs from the same case in another file")
+            done[seed] = r
+    return done, codes
