@@ -154,7 +154,7 @@ def test_a_signal_sent_from_another_thread_while_forking_waits_for_the_fork_to_e
     import threading
     import time
 
-    from voe.parallel import _signals_held
+    from voe.parallel import signals_held
 
     calls: list[str] = []
 
@@ -163,7 +163,7 @@ def test_a_signal_sent_from_another_thread_while_forking_waits_for_the_fork_to_e
 
     old = signal.signal(signal.SIGTERM, handler)
     try:
-        with _signals_held():
+        with signals_held():
             t = threading.Thread(target=lambda: os.kill(os.getpid(), signal.SIGTERM))
             t.start()
             t.join()

@@ -52,7 +52,7 @@ _HELD = {signal.SIGINT, signal.SIGTERM}
 
 
 @contextlib.contextmanager
-def _signals_held():
+def signals_held():
     """Hold SIGINT and SIGTERM while a worker may be forked; they are delivered on release.
 
     Why: a signal that arrives just after a fork runs its handler inside the at-fork callbacks
@@ -81,7 +81,7 @@ def _signals_held():
             signal.raise_signal(s)
 
 
-def _release_signals() -> None:
+def release_signals() -> None:
     """Worker initializer: a forked worker inherits the held mask and the parent's handlers.
 
     Why both: it must answer signals (the parent stops its workers with SIGTERM when it is
@@ -127,14 +127,14 @@ def parallel_map(fn: Callable[[T], R], items: Iterable[T], jobs: int = 1,
         _FNS[token] = fn  # before the pool exists, so every forked worker has it
     pending: deque[tuple[int, Any, Future]] = deque()
     it = iter(enumerate(items))
-    pool = ProcessPoolExecutor(max_workers=jobs, mp_context=mp.get_context(method), initializer=_release_signals)
+    pool = ProcessPoolExecutor(max_workers=jobs, mp_context=mp.get_context(method), initializer=release_signals)
     try:
         def submit() -> bool:
             nxt = next(it, None)
             if nxt is None:
                 return False
             i, item = nxt
-            with _signals_held():  # submit may fork a worker
+            with signals_held():  # submit may fork a worker
                 fut = pool.submit(_call_forked, token, item) if forked else pool.submit(fn, item)
             pending.append((i, item, fut))
             return True
@@ -157,14 +157,14 @@ def parallel_map(fn: Callable[[T], R], items: Iterable[T], jobs: int = 1,
             if progress:
                 progress(1)
     except KeyboardInterrupt:  # Ctrl-C or SIGTERM (voe.cli.main) sent to this process alone:
-        _stop_workers(pool)  # now, instead of waiting out their items
+        stop_workers(pool)  # now, instead of waiting out their items
         raise
     finally:
         pool.shutdown(wait=True, cancel_futures=True)
         _FNS.pop(token, None)
 
 
-def _stop_workers(pool: ProcessPoolExecutor) -> None:
+def stop_workers(pool: ProcessPoolExecutor) -> None:
     """Terminate the pool's workers, reap them, and unblock the pool's reader of their results.
 
     Why the last step: a worker killed half-way through sending a result (more than a pipe's

@@ -25,7 +25,7 @@ from collections.abc import Callable
 from concurrent.futures import Future, ProcessPoolExecutor
 from typing import Generic, TypeVar
 
-from voe.parallel import _release_signals, _signals_held, _stop_workers
+from voe.parallel import release_signals, signals_held, stop_workers
 
 R = TypeVar("R")
 
@@ -40,7 +40,7 @@ IDLE_NICE = 19  # the lowest priority: such a process runs on cores the others l
 
 
 def _release_signals_idle() -> None:
-    _release_signals()
+    release_signals()
     if hasattr(os, "setpriority"):
         os.setpriority(os.PRIO_PROCESS, 0, IDLE_NICE)
 
@@ -67,8 +67,8 @@ class Ahead(Generic[R]):
             _PENDING[token] = self._counting  # before the fork, so the process has it
             self._token = token
             self._pool = ProcessPoolExecutor(max_workers=1, mp_context=mp.get_context("fork"),
-                                             initializer=_release_signals_idle if idle else _release_signals)
-            with _signals_held():  # submit forks the process
+                                             initializer=_release_signals_idle if idle else release_signals)
+            with signals_held():  # submit forks the process
                 self._future = self._pool.submit(_call, token)
 
     def _counting(self) -> tuple[R, list[int]]:
@@ -110,7 +110,7 @@ class Ahead(Generic[R]):
     def cancel(self) -> None:
         """The result is not needed: stop the forked process now instead of waiting for it."""
         if self._pool is not None:
-            _stop_workers(self._pool)
+            stop_workers(self._pool)
         self.close()
 
     def close(self) -> None:
