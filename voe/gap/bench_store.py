@@ -21,9 +21,8 @@ import json
 import os
 from pathlib import Path
 
-import numpy as np
-
 from voe.errors import DataError
+from voe.gap.output import json_default
 from voe.io.provenance import package_versions
 
 FORMAT = 1
@@ -37,15 +36,6 @@ def code_hash() -> str:
     for f in sorted(root.rglob("*.py")):
         h.update(f"{f.relative_to(root).as_posix()}\0".encode() + f.read_bytes() + b"\n")
     return h.hexdigest()
-
-
-def _plain(x):
-    """JSON encoder fallback for numpy scalars and arrays in result dicts."""
-    if isinstance(x, np.generic):
-        return x.item()
-    if isinstance(x, np.ndarray):
-        return x.tolist()
-    raise TypeError(f"not JSON serialisable: {type(x).__name__}")
 
 
 class BenchStore:
@@ -66,7 +56,7 @@ class BenchStore:
                  read_only: bool = False) -> None:
         self.path = Path(path)
         self.read_only = read_only
-        self.run = json.loads(json.dumps(run, default=_plain))
+        self.run = json.loads(json.dumps(run, default=json_default))
         self.shard = list(shard) if shard else None
         self.code = code_hash()
         self.made_by: str | None = None  # the sources sha256 the stored results were made by
@@ -123,7 +113,7 @@ class BenchStore:
         """Append one case's result and flush it to disk before the next case is reported."""
         if self.read_only:
             raise DataError(f"bench results {self.path}: opened read-only")
-        line = json.dumps(result, default=_plain)
+        line = json.dumps(result, default=json_default)
         with open(self.path, "a") as fh:
             fh.write(line + "\n")
             fh.flush()

@@ -7,44 +7,29 @@ of the inputs) makes a diagnosis traceable to exactly what produced it.
 
 from __future__ import annotations
 
-import hashlib
 import json
-import os
 import platform
-import tempfile
 from importlib import metadata
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from voe.io.atomic import atomic_write_bytes
+from voe.io.provenance import sha256_file
+
 PACKAGES = ("numpy", "scipy", "pandas", "pymunk", "typer", "matplotlib")
 
 
 def atomic_write(path: Path, data: str | bytes) -> None:
-    """Write ``data`` to ``path`` via a temporary file and ``os.replace``."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data.encode() if isinstance(data, str) else data)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600 files; results should be readable
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    """Write ``data`` (text as UTF-8) to ``path`` via a temporary file and ``os.replace``
+    (``voe.io.atomic``, shared with the probe and score writers)."""
+    atomic_write_bytes(Path(path), data.encode("utf-8") if isinstance(data, str) else data)
 
 
 def sha256(path: str | Path) -> str:
-    h = hashlib.sha256()
-    with open(path, "rb") as fh:
-        for chunk in iter(lambda: fh.read(1 << 20), b""):
-            h.update(chunk)
-    return h.hexdigest()
+    """sha256 of a file's bytes (``voe.io.provenance.sha256_file``)."""
+    return sha256_file(Path(path))
 
 
 def provenance(seed: int, inputs: dict[str, str | Path], config: Any = None) -> dict:
@@ -62,7 +47,8 @@ def provenance(seed: int, inputs: dict[str, str | Path], config: Any = None) -> 
             "config": repr(config) if config is not None else None}
 
 
-def _default(o: Any) -> Any:
+def json_default(o: Any) -> Any:
+    """``json.dumps`` fallback for numpy scalars and arrays in result dicts (as plain numbers and lists)."""
     if isinstance(o, np.generic):
         return o.item()
     if isinstance(o, np.ndarray):
@@ -71,4 +57,4 @@ def _default(o: Any) -> Any:
 
 
 def write_json(path: Path, payload: dict) -> None:
-    atomic_write(path, json.dumps(payload, indent=2, default=_default) + "\n")
+    atomic_write(path, json.dumps(payload, indent=2, default=json_default) + "\n")
