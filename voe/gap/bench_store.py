@@ -23,6 +23,7 @@ from pathlib import Path
 
 from voe.errors import DataError
 from voe.gap.output import json_default
+from voe.io.atomic import atomic_write_text
 from voe.io.provenance import package_versions
 
 FORMAT = 1
@@ -67,12 +68,9 @@ class BenchStore:
             raise DataError(f"bench results {self.path}: no such file to score")
         else:
             self.made_by = self.code
-            self.path.parent.mkdir(parents=True, exist_ok=True)
             header = {"voe_gap_bench": FORMAT, "run": self.run, "shard": self.shard, "code": self.code,
                       "versions": package_versions()}
-            tmp = self.path.with_name(self.path.name + ".tmp")
-            tmp.write_text(json.dumps(header) + "\n")
-            os.replace(tmp, self.path)
+            atomic_write_text(self.path, json.dumps(header) + "\n")
 
     def _read(self) -> None:
         lines = self.path.read_text().split("\n")
@@ -102,9 +100,7 @@ class BenchStore:
             except json.JSONDecodeError:
                 if n == len(lines):  # the last line, with no newline: cut off mid-write
                     if not self.read_only:  # dropped, so the next case starts a line of its own
-                        tmp = self.path.with_name(self.path.name + ".tmp")
-                        tmp.write_text("\n".join(lines[:-1]) + "\n")
-                        os.replace(tmp, self.path)
+                        atomic_write_text(self.path, "\n".join(lines[:-1]) + "\n")
                     continue
                 raise DataError(f"bench results {self.path}: line {n} is not JSON") from None
             self.done[int(r["seed"])] = r
