@@ -123,3 +123,26 @@ def test_shards_of_a_job_array_score_together_as_the_whole_run(tmp_path, monkeyp
         bench_command(run, results=files[0], shard="1/3", echo=lambda s: None)
     with pytest.raises(VoeError, match="--shard must be I/N"):
         bench_command(run, shard="3/3", echo=lambda s: None)
+
+
+def _strict(text: str):
+    """Parse as RFC 8259 JSON: NaN and Infinity are refused, as jq and JSON.parse refuse them."""
+    def refuse(name):
+        raise ValueError(f"not JSON: {name}")
+    return json.loads(text, parse_constant=refuse)
+
+
+def test_store_is_strict_json_and_a_case_stored_twice_merges(tmp_path, monkeypatch):
+    monkeypatch.setattr(bench, "run_case", _fake([]))
+    a, b = tmp_path / "a.jsonl", tmp_path / "b.jsonl"
+    bench.run_bench(4, seed=7, clean=2, store=BenchStore(a, RUN))
+    for line in a.read_text().splitlines():
+        _strict(line)  # the nan parameter error is written as null
+    assert json.loads(a.read_text().splitlines()[1])["param_error"] is None
+    back = BenchStore(a, RUN).done[7000]
+    assert np.isnan(back["param_error"]) and back["before"] == 0.01  # read back as a number
+    b.write_bytes(a.read_bytes())  # the same cases stored by two shards, e.g. a task run twice
+    from voe.gap.bench_store import read_stores
+
+    done, _ = read_stores([a, b], RUN)  # nan != nan made equal cases look different
+    assert sorted(done) == [7000, 7001, 7002, 7003, 7004, 7005]

@@ -6,6 +6,7 @@ import json
 import subprocess
 import sys
 
+import pytest
 from typer.testing import CliRunner
 
 from voe.cli.main import app
@@ -50,7 +51,7 @@ def test_cli_diagnose_default_form_and_bench_help(flight_files, tmp_path):
     out = tmp_path / "out"
     r = CliRunner().invoke(app, ["gap", str(scene), str(rec), "--out", str(out), "--effects", "linear_drag"])
     assert r.exit_code == 0, r.output
-    data = json.loads((out / "gap.json").read_text())
+    data = json.loads((out / "gap.json").read_text(), parse_constant=lambda c: pytest.fail(f"gap.json holds {c}"))
     assert data["verdict"] in ("consistent", "mismatch")
     assert set(data) >= {"verdict", "located", "effects", "fit", "explanation", "provenance", "episodes", "dropped"}
     assert data["episodes"]["scheme"] == "cross-validation" and len(data["episodes"]["folds"]) == 3  # 3 episodes

@@ -8,7 +8,9 @@ code runs only the cases that are missing, and the summary is printed from the s
 never by running the finder again (``bench/gap_bench.py --score-only``).
 
 Format: the first line is a header (``{"voe_gap_bench": 1, "run": {...}, "code": sha256,
-"versions": {...}}``); every further line is one case's result dict. A line cut off mid-write
+"versions": {...}}``); every further line is one case's result dict, in strict JSON (a missing
+number such as the parameter error of an unnamed case is ``null``, read back as ``nan``;
+``voe.io.jsonio``). A line cut off mid-write
 (the machine stopped) is dropped when the file is opened again, and its case is run again. A header whose run arguments or code
 hash differ from the current ones is refused with one line naming the file: results of
 different code or a different plan must never be pooled into one summary.
@@ -22,8 +24,9 @@ import os
 from pathlib import Path
 
 from voe.errors import DataError
-from voe.gap.output import json_default
+from voe.io import jsonio
 from voe.io.atomic import atomic_write_text
+from voe.io.jsonio import nan_if_none
 from voe.io.provenance import package_versions
 
 FORMAT = 1
@@ -57,7 +60,7 @@ class BenchStore:
                  read_only: bool = False) -> None:
         self.path = Path(path)
         self.read_only = read_only
-        self.run = json.loads(json.dumps(run, default=json_default))
+        self.run = json.loads(jsonio.dumps(run))
         self.shard = list(shard) if shard else None
         self.code = code_hash()
         self.made_by: str | None = None  # the sources sha256 the stored results were made by
@@ -70,7 +73,7 @@ class BenchStore:
             self.made_by = self.code
             header = {"voe_gap_bench": FORMAT, "run": self.run, "shard": self.shard, "code": self.code,
                       "versions": package_versions()}
-            atomic_write_text(self.path, json.dumps(header) + "\n")
+            atomic_write_text(self.path, jsonio.dumps(header) + "\n")
 
     def _read(self) -> None:
         lines = self.path.read_text().split("\n")
@@ -103,18 +106,31 @@ class BenchStore:
                         atomic_write_text(self.path, "\n".join(lines[:-1]) + "\n")
                     continue
                 raise DataError(f"bench results {self.path}: line {n} is not JSON") from None
-            self.done[int(r["seed"])] = r
+            self.done[int(r["seed"])] = _numbers(r)
 
     def add(self, result: dict) -> None:
         """Append one case's result and flush it to disk before the next case is reported."""
         if self.read_only:
             raise DataError(f"bench results {self.path}: opened read-only")
-        line = json.dumps(result, default=json_default)
+        line = jsonio.dumps(result)
         with open(self.path, "a") as fh:
             fh.write(line + "\n")
             fh.flush()
             os.fsync(fh.fileno())
-        self.done[int(result["seed"])] = json.loads(line)
+        self.done[int(result["seed"])] = _numbers(json.loads(line))
+
+
+NUMBERS = ("param_error", "before", "after")  # stored as null when missing, read back as nan
+
+
+def _numbers(r: dict) -> dict:
+    """A stored case with its float fields as floats again (``null`` written for ``nan``)."""
+    return {**r, **{k: nan_if_none(r[k]) for k in NUMBERS if k in r}}
+
+
+def _same(a: dict, b: dict) -> bool:
+    """Equal as stored (nan, which never equals itself, compares as the null it was written as)."""
+    return jsonio.dumps(a, sort_keys=True) == jsonio.dumps(b, sort_keys=True)
 
 
 def read_stores(paths: list[str | Path], run: dict) -> tuple[dict[int, dict], list[str]]:
@@ -126,7 +142,7 @@ def read_stores(paths: list[str | Path], run: dict) -> tuple[dict[int, dict], li
         st = BenchStore(p, run, read_only=True)
         codes.append(st.made_by or "")
         for seed, r in st.done.items():
-            if seed in done and done[seed] != r:
+            if seed in done and not _same(done[seed], r):
                 raise DataError(f"bench results {p}: case {seed} differs from the same case in another file")
             done[seed] = r
     return done, codes

@@ -7,14 +7,12 @@ of the inputs) makes a diagnosis traceable to exactly what produced it.
 
 from __future__ import annotations
 
-import json
 import platform
 from importlib import metadata
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
+from voe.io import jsonio
 from voe.io.atomic import atomic_write_bytes
 from voe.io.provenance import sha256_file
 
@@ -47,14 +45,5 @@ def provenance(seed: int, inputs: dict[str, str | Path], config: Any = None) -> 
             "config": repr(config) if config is not None else None}
 
 
-def json_default(o: Any) -> Any:
-    """``json.dumps`` fallback for numpy scalars and arrays in result dicts (as plain numbers and lists)."""
-    if isinstance(o, np.generic):
-        return o.item()
-    if isinstance(o, np.ndarray):
-        return o.tolist()
-    raise TypeError(f"not JSON serialisable: {type(o).__name__}")
-
-
 def write_json(path: Path, payload: dict) -> None:
-    atomic_write(path, json.dumps(payload, indent=2, default=json_default) + "\n")
+    atomic_write(path, jsonio.dumps(payload, indent=2) + "\n")

@@ -33,6 +33,7 @@ import pandas as pd
 
 from voe import __version__
 from voe.errors import VoeError
+from voe.io import jsonio
 from voe.io.atomic import atomic_dir
 from voe.io.clipkey import clip_key, set_key
 from voe.io.outputs import check_output
@@ -116,7 +117,7 @@ def _write_set(ps: ProbeSet, root: Path, opts: ExportOptions, fps: float, rows: 
                                  "is_possible": row.role == "possible", "clip_key": row.clip_key,
                                  "set_key": row.set_key, "onset_frame": int(row.onset_frame)},
                       "frames": [{} for _ in range(len(frames))]}
-            (base / "status.json").write_text(json.dumps(status, indent=4) + "\n")
+            (base / "status.json").write_text(jsonio.dumps(status, indent=4) + "\n")
             files[f"{row.path}/status.json"] = base / "status.json"
         elif opts.fmt == "png":
             for p in write_pngs(base, frames):
@@ -196,6 +197,6 @@ def export_probe_set(probes: str | Path, out: str | Path, fmt: str = "mp4", size
                 "mirrored_blocks": sorted(kinds.index[kinds == "mirrored"]),
                 "pairs": "two runs (1, 2) per set; runs are numbered in clip-key order, not by role",
                 "mirrored": "four runs per set (a pair and its left-right mirror), numbered like pairs"}
-        (tmp / "manifest.json").write_text(json.dumps(manifest, indent=1, sort_keys=True) + "\n")
+        (tmp / "manifest.json").write_text(jsonio.dumps(manifest, indent=1, sort_keys=True) + "\n")
     return manifest
 

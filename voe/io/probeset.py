@@ -29,6 +29,7 @@ import numpy as np
 import pandas as pd
 
 from voe.errors import ProbeSetError
+from voe.io import jsonio
 from voe.io.atomic import atomic_dir
 from voe.io.batch import Batch
 from voe.io.paths import inside
@@ -99,7 +100,7 @@ def write_probe_set(out: Path, records: Iterable[ClipRecord], meta: dict[str, An
         manifest = {"schema_version": SCHEMA_VERSION, **meta, "n_clips": index.num_rows,
                     "shard_clips": writer.capacity, "shards": writer.shards,
                     "files": dict(sorted(files.items()))}
-        (tmp / "manifest.json").write_text(json.dumps(manifest, indent=1, sort_keys=True) + "\n")
+        (tmp / "manifest.json").write_text(jsonio.dumps(manifest, indent=1, sort_keys=True) + "\n")
     return manifest
 
 

@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from voe.errors import CheckpointError
+from voe.io import jsonio
 from voe.io.atomic import atomic_dir
 from voe.io.paths import inside
 
@@ -34,7 +35,7 @@ def save_checkpoint(out: Path, meta: dict[str, Any], tensors: dict[str, Any] | N
         else:
             from safetensors.numpy import save_file
         save_file(tensors, str(tmp / WEIGHTS))
-        (tmp / CONFIG).write_text(json.dumps({"format": FORMAT, **meta}, indent=1, sort_keys=True) + "\n")
+        (tmp / CONFIG).write_text(jsonio.dumps({"format": FORMAT, **meta}, indent=1, sort_keys=True) + "\n")
     return Path(out)
 
 

@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from voe.io import jsonio
 from voe.report import render as R
 from voe.report.concepts import concept_name
 from voe.scoring.verdict import CONFOUNDED_RULE
@@ -193,7 +194,6 @@ def write_validity_report(matrix: pd.DataFrame, out: Path, provenance: dict, ove
                           confounds: pd.DataFrame | None = None) -> None:
     """Write ``matrix.csv``, ``confounds.csv``, ``validity.md``, ``validity.html``,
     ``figures/specificity.png``."""
-    import json
 
     from voe.io.atomic import atomic_dir
     from voe.report.filmstrip import save_figure
@@ -208,4 +208,4 @@ def write_validity_report(matrix: pd.DataFrame, out: Path, provenance: dict, ove
         blocks.append(R.Para("Provenance: " + ", ".join(f"{k}: `{v}`" for k, v in provenance.items())))
         (tmp / "validity.md").write_text(R.to_markdown(blocks))
         (tmp / "validity.html").write_text(R.to_html(blocks, "voe validity controls", tmp))
-        (tmp / "provenance.json").write_text(json.dumps(provenance, indent=1, sort_keys=True) + "\n")
+        (tmp / "provenance.json").write_text(jsonio.dumps(provenance, indent=1, sort_keys=True) + "\n")

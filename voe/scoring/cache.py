@@ -28,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from voe.io import jsonio
 from voe.io.atomic import atomic_write_bytes, atomic_write_text
 
 CACHE_SCHEMA = 1
@@ -100,7 +101,7 @@ class ScoreCache:
         self.dir.mkdir(parents=True, exist_ok=True)
         info = self.dir / "key.json"
         if not info.exists():
-            atomic_write_text(info, json.dumps(fields, indent=1, sort_keys=True, default=str) + "\n")
+            atomic_write_text(info, jsonio.dumps(fields, indent=1, sort_keys=True, default=str) + "\n")
 
     def _path(self, i: int) -> Path:
         return self.dir / f"batch-{i:06d}.npz"

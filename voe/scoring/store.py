@@ -17,7 +17,6 @@ same files for the same numbers, so that every metric and report reads them the 
 from __future__ import annotations
 
 import io
-import json
 import time
 from collections.abc import Mapping
 from pathlib import Path
@@ -28,6 +27,7 @@ import pandas as pd
 
 from voe import __version__
 from voe.errors import ModelContractError
+from voe.io import jsonio
 from voe.io.atomic import atomic_dir
 from voe.io.provenance import package_versions
 
@@ -138,5 +138,5 @@ def write_run(out: Path, index: pd.DataFrame, nll: np.ndarray, meta: dict[str, A
     with atomic_dir(Path(out), overwrite=overwrite) as tmp:
         (tmp / "frames.parquet").write_bytes(_parquet_bytes(frames))
         (tmp / "clips.parquet").write_bytes(_parquet_bytes(clips))
-        (tmp / "run.json").write_text(json.dumps(meta, indent=1, sort_keys=True, default=str) + "\n")
+        (tmp / "run.json").write_text(jsonio.dumps(meta, indent=1, sort_keys=True, default=str) + "\n")
     return meta
