@@ -3,6 +3,7 @@
 Usage: python bench/gap_bench.py [--cases 33] [--clean N] [--noise 0.001] [--jobs 2] [--truths a,b]
                                  [--episodes 12] [--duration 3] [--compound N] [--outside N]
                                  [--clean-kinds white,coloured] [--results runs/bench.jsonl [--score-only]]
+                                 [--cross-fit]
 Same code as ``voe gap bench`` (``voe.gap.bench_run``); prints a confusion matrix, the
 false-discovery rate on clean recordings with its exact 95 % upper bound, parameter-recovery error
 and the median held-out RMSE reduction. ``--cases`` cycle through every truth (``none`` included);
@@ -43,12 +44,14 @@ def main() -> None:
     ap.add_argument("--results", default=None, help="JSON-lines file the case results are appended to (and resumed from)")
     ap.add_argument("--score-only", action="store_true", help="print the summary of the cases stored in --results "
                     "(FILE,FILE,...: the shards of one run); run none")
+    ap.add_argument("--cross-fit", action="store_true", help="the finder cross-fits: the non-test episodes' halves "
+                    "swap fitting and selection (twice the fitting work; GapConfig.cross_fit)")
     ap.add_argument("--shard", default=None, help="I/N: run part I of N only, e.g. $SLURM_ARRAY_TASK_ID/8 (one --results file each)")
     a = ap.parse_args()
     try:
         run = BenchRun(cases=a.cases, noise=a.noise, seed=a.seed, clean=a.clean, truths=tuple(a.truths.split(",")),
                        episodes=a.episodes, duration=a.duration, compound=a.compound, outside=a.outside,
-                       clean_kinds=tuple(a.clean_kinds.split(",")))
+                       clean_kinds=tuple(a.clean_kinds.split(",")), cross_fit=a.cross_fit)
         bench_command(run, a.jobs, a.results, a.score_only, a.shard, echo=lambda s: print(s, flush=True))
     except VoeError as exc:
         raise SystemExit(f"gap_bench: error: {exc}") from None

@@ -15,10 +15,14 @@ from voe.gap.truths import kind
 RUN = {"cases": 4, "seed": 7, "clean": 2}
 
 
+crossed: list[bool] = []  # the cross_fit flag each faked case was given
+
+
 def _fake(calls):
     def run_case(args):
-        seed, truth, _, _, _, _, nk = args
+        seed, truth, _, _, _, _, nk, *opt = args
         calls.append(seed)
+        crossed.append(bool(opt and opt[0]))
         return {"seed": seed, "truth": truth, "kind": kind(truth), "noise_kind": nk, "found": "none", "names": [],
                 "group": [], "verdict": "consistent", "located": 0, "n_effects": 0, "dropped": [], "null_strength": 0,
                 "before": 0.01, "after": 0.01, "param_error": float("nan"), "covered": np.bool_(True),
@@ -146,3 +150,18 @@ def test_store_is_strict_json_and_a_case_stored_twice_merges(tmp_path, monkeypat
 
     done, _ = read_stores([a, b], RUN)  # nan != nan made equal cases look different
     assert sorted(done) == [7000, 7001, 7002, 7003, 7004, 7005]
+
+
+def test_cross_fit_reaches_the_finder_and_keys_the_store(tmp_path, monkeypatch):
+    from voe.gap.bench_run import BenchRun, bench_command
+
+    monkeypatch.setattr(bench, "run_case", _fake([]))
+    crossed.clear()
+    plain, cross = BenchRun(cases=2, seed=5, clean=0), BenchRun(cases=2, seed=5, clean=0, cross_fit=True)
+    assert "cross_fit" not in plain.store_key()  # stores made before the option still match their runs
+    bench_command(plain, results=str(tmp_path / "p.jsonl"), echo=lambda s: None)
+    assert crossed == [False, False]
+    bench_command(cross, results=str(tmp_path / "c.jsonl"), echo=lambda s: None)
+    assert crossed[2:] == [True, True]
+    with pytest.raises(DataError, match=r"other run arguments \(cross_fit\)"):  # never pooled with plain runs
+        bench_command(cross, results=str(tmp_path / "p.jsonl"), echo=lambda s: None)

@@ -11,6 +11,7 @@ from typer.testing import CliRunner
 
 from voe.cli.main import app
 from voe.gap import GapFinder
+from voe.gap.stages import GapConfig
 
 from .conftest import flight_episodes
 
@@ -35,6 +36,17 @@ def test_hidden_linear_drag_is_found_and_fitted():
     assert f.fit_["after"] < 0.5 * f.fit_["before"]
     assert f.located_ and {x["context"] for x in f.located_} == {"flight"}
     assert "linear_drag" in f.explanation_
+
+
+def test_cross_fitted_finder_selects_on_every_non_test_episode():
+    scene, eps = flight_episodes("linear_drag", [0.4], n=6, duration=2.0, seed=6)
+    f = GapFinder(effects=FEW, seed=0, config=GapConfig(cross_fit=True)).fit(scene, eps)
+    assert f.effects_[0]["name"] == "linear_drag" and abs(f.effects_[0]["params"]["c"] - 0.4) / 0.4 < 0.15
+    assert {w.ep for w in f.search_.fitter.test} == {0, 1, 2, 3, 4}  # both halves select
+    assert len(f.search_.fitter.folds) == 2 and len(f.effects_[0]["interval95"]) == 1
+    d = f.to_dict()
+    assert d["episodes"]["scheme"] == "cross-fitting" and d["fit"]["test_episodes"] == [eps[5].id]
+    assert f.fit_["after"] < 0.5 * f.fit_["before"]
 
 
 def test_parallel_candidate_fits_give_the_same_diagnosis():

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
 import numpy as np
 import pytest
 
@@ -38,6 +40,18 @@ def test_three_way_split_and_cross_validation_fallback():
     for n in (1, 2):
         with pytest.raises(ValueError, match="at least 3 episodes"):
             split_episodes(n)
+
+
+def test_cross_fitting_swaps_halves_and_keeps_the_test_split():
+    s = split_episodes(12, cross_fit=True)
+    assert s.cross_fitted and not s.cross_validated and s.test == (10, 11)
+    assert s.fit_select == ((tuple(range(5)), tuple(range(5, 10))), (tuple(range(5, 10)), tuple(range(5))))
+    for fit, sel, test in s.folds:  # each fold fits on windows it never selects on; nobody touches the test
+        assert not set(fit) & set(sel) and test == (10, 11) and sorted(fit + sel) == list(range(10))
+    roles = s.roles([SimpleNamespace(id=f"e{i}") for i in range(12)])
+    assert roles["scheme"] == "cross-fitting" and roles["test"] == ["e10", "e11"] and len(roles["folds"]) == 2
+    assert split_episodes(12) == split_episodes(12, cross_fit=False)  # opt-in: the default is unchanged
+    assert split_episodes(3, cross_fit=True).cross_validated  # too few for a test split: cross-validation still
 
 
 def test_noise_model_tells_white_from_coloured():

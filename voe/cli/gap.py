@@ -37,11 +37,14 @@ def diagnose_cmd(
     seed: int = typer.Option(0, "--seed"),
     no_figures: bool = typer.Option(False, "--no-figures", help="write gap.md without its figures"),
     jobs: int = typer.Option(2, "--jobs", min=1, help="processes fitting candidates in parallel (same result)"),
+    cross_fit: bool = typer.Option(False, "--cross-fit", help="halves of the non-test episodes swap fitting and "
+                                   "selection: more evidence for effects felt in few windows, twice the fitting work"),
 ) -> None:
     """Locate the mismatch, name and fit the missing effects, verify on held-out episodes."""
     from tqdm import tqdm
 
     from voe.gap.run import diagnose
+    from voe.gap.stages import GapConfig
 
     names = [e.strip() for e in effects.split(",") if e.strip()] or None
     with tqdm(desc="voe gap", unit="step", leave=False) as bar:
@@ -53,7 +56,8 @@ def diagnose_cmd(
             bar.total = n
             bar.refresh()
 
-        finder = diagnose(scene, recordings, out, names, max_effects, seed, figures=not no_figures, progress=progress,
+        finder = diagnose(scene, recordings, out, names, max_effects, seed, config=GapConfig(cross_fit=cross_fit),
+                          figures=not no_figures, progress=progress,
                           n_jobs=jobs, total=total)
     typer.echo(f"verdict: {finder.verdict_}")
     typer.echo(finder.explanation_)
@@ -78,6 +82,7 @@ def bench_cmd(
                                     "(FILE,FILE,...: the shards of one run); run none"),
     shard: str = typer.Option(None, "--shard", help="I/N: run part I of N only (a SLURM array task: "
                               "$SLURM_ARRAY_TASK_ID/N), one --results file per shard"),
+    cross_fit: bool = typer.Option(False, "--cross-fit", help="the finder cross-fits (GapConfig.cross_fit)"),
 ) -> None:
     """Benchmark identification on recordings with a concealed random effect (or none)."""
     from voe.gap.bench import TRUTHS
@@ -86,5 +91,5 @@ def bench_cmd(
     run = BenchRun(cases=cases, noise=noise, seed=seed, clean=clean,
                    truths=tuple(t.strip() for t in truths.split(",") if t.strip()) or TRUTHS,
                    episodes=episodes, duration=duration, compound=compound, outside=outside,
-                   clean_kinds=tuple(k.strip() for k in clean_kinds.split(",") if k.strip()))
+                   clean_kinds=tuple(k.strip() for k in clean_kinds.split(",") if k.strip()), cross_fit=cross_fit)
     bench_command(run, jobs, results, score_only, shard, echo=typer.echo)

@@ -218,15 +218,16 @@ def expression(case: Case, finder: GapFinder, noise: float) -> tuple[int, int] |
 
 
 def run_case(args: tuple) -> dict:
-    """Make and diagnose one case ``(seed, truth, noise, max_effects, episodes, duration, noise_kind)``;
-    returns truth, named effects, verdict and numbers."""
-    seed, truth, noise, max_effects, episodes, duration, noise_kind = args
+    """Make and diagnose one case ``(seed, truth, noise, max_effects, episodes, duration, noise_kind[,
+    cross_fit])``; returns truth, named effects, verdict and numbers."""
+    seed, truth, noise, max_effects, episodes, duration, noise_kind, *opt = args
+    config = GapConfig(cross_fit=bool(opt and opt[0]))
     rng = np.random.default_rng(seed)
     case = make_case(rng, truth, noise, episodes, duration, noise_kind=noise_kind)
     base = {"seed": seed, "truth": truth, "kind": kind(truth), "noise_kind": noise_kind, "param_error": float("nan"),
             "covered": None}
     try:
-        finder = GapFinder(max_effects=max_effects, seed=seed, config=GapConfig()).fit(case.scene, case.episodes)
+        finder = GapFinder(max_effects=max_effects, seed=seed, config=config).fit(case.scene, case.episodes)
         effects, verdict = finder.effects_, finder.verdict_
     except Exception as exc:  # a crash is a failed case, reported, not a lost bench
         return {**base, "found": f"error: {type(exc).__name__}: {exc}"[:120], "names": ["error"], "group": [],
@@ -272,13 +273,14 @@ def run_bench(cases: int = 22, noise: float = 1e-3, seed: int = 0, jobs: int = 1
               progress: Callable[[dict], None] | None = None, clean: int | None = None,
               truths: tuple[str, ...] = TRUTHS, episodes: int = 12, duration: float = 3.0, compound: int = 0,
               outside: int = 0, clean_kinds: tuple[str, ...] = ("white",), store: BenchStore | None = None,
-              shard: tuple[int, int] | None = None) -> list[dict]:
+              shard: tuple[int, int] | None = None, cross_fit: bool = False) -> list[dict]:
     """Run the cases of ``plan``; each has ``episodes`` recordings of ``duration`` seconds.
 
     ``store``: case results already in it are taken from it (reported first, in plan order) and
     not run again; every new result is appended to it as soon as it is known (``voe.gap.bench_store``).
     ``shard`` ``(I, N)``: only the plan's rows I, I + N, I + 2N, ... (one task of a job array; the
     shards' stores are scored together with ``voe.gap.bench_store.read_stores``).
+    ``cross_fit``: the finder cross-fits (``GapConfig.cross_fit``).
     Returns the results in plan order.
     """
     rows = plan(cases, seed, clean, truths, compound, outside, clean_kinds)
@@ -296,7 +298,7 @@ def run_bench(cases: int = 22, noise: float = 1e-3, seed: int = 0, jobs: int = 1
             results.append(done[s])
             if progress:
                 progress(results[-1])
-    todo = [(s, t, noise, max_effects, episodes, duration, nk) for s, t, nk, _ in rows if s not in done]
+    todo = [(s, t, noise, max_effects, episodes, duration, nk, cross_fit) for s, t, nk, _ in rows if s not in done]
     for r in parallel_map(run_case, todo, jobs):
         results.append({**r, "role": roles[r["seed"]], "extra": roles[r["seed"]] != "cycle"})
         if store is not None:

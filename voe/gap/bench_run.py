@@ -40,6 +40,7 @@ class BenchRun:
     compound: int = 0
     outside: int = 0
     clean_kinds: tuple[str, ...] = ("white", "coloured")
+    cross_fit: bool = False  # the finder cross-fits (``GapConfig.cross_fit``)
 
     def __post_init__(self) -> None:
         for kind, names, known in (("truth", self.truths, TRUTHS), ("noise kind", self.clean_kinds, NOISE_KINDS)):
@@ -50,7 +51,12 @@ class BenchRun:
                     raise UnknownNameError(f"unknown bench {kind} '{n}'{hint} (known: {', '.join(known)})")
 
     def store_key(self) -> dict:
-        return {k: list(v) if isinstance(v, tuple) else v for k, v in asdict(self).items()}
+        """The run's arguments as stored in a results file's header (``cross_fit`` only when set,
+        so stores made before the option existed still match their runs)."""
+        key = {k: list(v) if isinstance(v, tuple) else v for k, v in asdict(self).items()}
+        if not key["cross_fit"]:
+            del key["cross_fit"]
+        return key
 
 
 def case_line(r: dict) -> str:
@@ -95,7 +101,8 @@ def bench_command(run: BenchRun, jobs: int = 1, results: str | None = None, scor
         store = BenchStore(files[0], run.store_key(), shard=part) if files else None
         out = run_bench(run.cases, run.noise, run.seed, jobs, clean=run.clean, truths=run.truths,
                         episodes=run.episodes, duration=run.duration, compound=run.compound, outside=run.outside,
-                        clean_kinds=run.clean_kinds, store=store, shard=part, progress=lambda r: echo(case_line(r)))
+                        clean_kinds=run.clean_kinds, store=store, shard=part, progress=lambda r: echo(case_line(r)),
+                        cross_fit=run.cross_fit)
     if part is not None:
         echo(f"shard {part[0]}/{part[1]}: {len(out)} cases; score every shard's file together with "
              "--score-only --results FILE,FILE,...")

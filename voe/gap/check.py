@@ -79,7 +79,8 @@ def model_intervals(p: Problem, fit_ids: tuple[int, ...], model: FitResult, ctx:
     0.338: the window bootstrap alone gave [0.05, 0.46], the 8 parametric replicates' errors
     -0.40 ... +0.31 widened it to [0.05, 1.21], and the mass, 30 % of the selection error, was
     dropped; asked directly, the fitting windows rule the nominal 1 out).
-    With cross-validation (no selection episodes) nothing is asked. Only such parts: a smooth effect's local interval is what the
+    With cross-validation (no selection episodes) nothing is asked; cross-fitted, ``fit_ids`` are
+    every non-test episode (each fits in one fold), and it is asked on all of them. Only such parts: a smooth effect's local interval is what the
     parametric bootstrap calibrates, and asked directly a clean case's constant acceleration was
     ruled out on both sets (4593052, 4593219, white noise: false names). One place for the check
     and the drift step, so both judge "established" on the same interval."""
@@ -98,7 +99,8 @@ def model_intervals(p: Problem, fit_ids: tuple[int, ...], model: FitResult, ctx:
         if blind.any() else []  # the selection episodes too: they accept effects, and a sparse one needs them
     for j in np.flatnonzero(blind):  # flat at the fit is not flat everywhere (voe.gap.profile)
         lo[j], hi[j] = profile_interval(p.shooter, scan, model.effect, model.params, int(j), ctx)
-    sets = [windows] if held.any() and fit_windows(p, select, config) else []  # not the selection windows (see above)
+    asked = held.any() and (p.split.cross_fitted or fit_windows(p, select, config))  # cross-fitted: all fit
+    sets = [windows] if asked else []  # not the selection windows (see above)
     for j in np.flatnonzero(held):  # linear at the fit is not linear everywhere: the nominal value asked directly
         lo[j], hi[j] = nominal_side(p.shooter, sets, model.effect, model.params, int(j), ctx, float(lo[j]), float(hi[j]))
     return lo, hi

@@ -45,6 +45,8 @@ class GapConfig:
     substep: float | None = None  # default 1 ms, 0.5 ms for scenes with joints
     fit_budget: float = 8.0  # the data and the null alike
     test_budget: float = 20.0  # selection windows: simulated once per candidate, cheap, and many steady the gain
+    cross_fit: bool = False  # halves swap fitting and selection (voe.gap.split); twice the fitting work
+    cross_fit_budget: float = 50.0  # selection seconds over both folds when cross-fitted: every window of 10 episodes of 3 s
     min_gain: float = 0.05  # practical floor: a selection gain below 5 % is never accepted
     null_alpha: float = 0.05  # the threshold is the null's best gain at this upper quantile
     gain_lower_q: float | None = 0.05  # the gain's bootstrap quantile over selection windows must be > 0
@@ -97,7 +99,7 @@ def prepare(scene: str | Path | SceneSpec, recordings: str | Path | pd.DataFrame
     names = [EFFECTS.resolve(n) for n in effects]  # fail fast on typos
     spec, eps = _load(scene, recordings)
     try:
-        split = split_episodes(len(eps))
+        split = split_episodes(len(eps), config.cross_fit)
     except ValueError as exc:
         raise DataError(f"recordings {recordings if not isinstance(recordings, list) else '<list>'}: {exc}") from exc
     sub = config.substep or (5e-4 if spec.joints else 1e-3)
@@ -212,11 +214,12 @@ def _folded(p: Problem, shooter: Shooter, episodes: list[Episode], bad: dict[int
     rng = np.random.default_rng(seed)
     w = config.fit_window
     folds = p.split.fit_select
+    budget = config.cross_fit_budget if p.split.cross_fitted else config.test_budget
     out = []
     for fit_ids, sel_ids in folds:
         train = _subsample(make_windows(episodes, list(fit_ids), w, bad_start=bad), config.fit_budget, w, rng)
         sel = _subsample(make_windows(episodes, list(sel_ids), w, stride=w / 2, bad_start=bad),
-                         config.test_budget / len(folds), w, rng)
+                         budget / len(folds), w, rng)
         pool = make_windows(episodes, list(fit_ids), w, stride=w / 2, bad_start=bad)
         ctx = context_for(p.scene, [episodes[i] for i in fit_ids])
         out.append(Fitter(shooter, p.sigma, train, sel, ctx, config.fit, pool=pool))
