@@ -99,7 +99,7 @@ def model_intervals(p: Problem, fit_ids: tuple[int, ...], model: FitResult, ctx:
         if blind.any() else []  # the selection episodes too: they accept effects, and a sparse one needs them
     for j in np.flatnonzero(blind):  # flat at the fit is not flat everywhere (voe.gap.profile)
         lo[j], hi[j] = profile_interval(p.shooter, scan, model.effect, model.params, int(j), ctx)
-    asked = held.any() and (p.split.cross_fitted or fit_windows(p, select, config))  # cross-fitted: all fit
+    asked = held.any() and (fit_windows(p, select, config) or p.split.cross_fitted)  # cross-fitted: all fit
     sets = [windows] if asked else []  # not the selection windows (see above)
     for j in np.flatnonzero(held):  # linear at the fit is not linear everywhere: the nominal value asked directly
         lo[j], hi[j] = nominal_side(p.shooter, sets, model.effect, model.params, int(j), ctx, float(lo[j]), float(hi[j]))
