@@ -26,7 +26,6 @@ from pathlib import Path
 from voe.errors import DataError
 from voe.io import jsonio
 from voe.io.atomic import atomic_write_text
-from voe.io.jsonio import nan_if_none
 from voe.io.provenance import package_versions
 
 FORMAT = 1
@@ -125,7 +124,7 @@ NUMBERS = ("param_error", "before", "after")  # stored as null when missing, rea
 
 def _numbers(r: dict) -> dict:
     """A stored case with its float fields as floats again (``null`` written for ``nan``)."""
-    return {**r, **{k: nan_if_none(r[k]) for k in NUMBERS if k in r}}
+    return {**r, **{k: jsonio.nan_if_none(r[k]) for k in NUMBERS if k in r}}
 
 
 def _same(a: dict, b: dict) -> bool:

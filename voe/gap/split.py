@@ -68,7 +68,7 @@ class Split:
     def roles(self, episodes: list[Episode]) -> dict:
         """Episode ids per role, for gap.json."""
         ids = [e.id for e in episodes]
-        scheme = "cross-validation" if self.cross_validated else "cross-fitting" if self.folds else "three-way"
+        scheme = "cross-validation" if self.cross_validated else "cross-fitting" if self.cross_fitted else "three-way"
         out = {"scheme": scheme, "note": self.note,
                "fit": [ids[i] for i in self.fit], "select": [ids[i] for i in self.select],
                "test": [ids[i] for i in self.test]}
@@ -81,16 +81,14 @@ class Split:
 def split_episodes(n: int, cross_fit: bool = False) -> Split:
     """Chronological three-way split of ``n`` episodes (cross-fitted if ``cross_fit``: see the
     module docstring), or rotating cross-validation folds if too few."""
+    n_test = max(1, round(n / 6))  # the last sixth tests in both forms of the split
     if n >= MIN_THREE_WAY and cross_fit:
-        n_test = max(1, round(n / 6))
-        rest = list(range(n - n_test))
-        a, b = tuple(rest[:len(rest) // 2]), tuple(rest[len(rest) // 2:])
-        test = tuple(range(n - n_test, n))
+        half = (n - n_test) // 2
+        a, b, test = tuple(range(half)), tuple(range(half, n - n_test)), tuple(range(n - n_test, n))
         return Split(a + b, a + b, test, ((a, b, test), (b, a, test)),
                      note=f"cross-fitting: {len(a)} episodes fit while the next {len(b)} select, and the other way "
                           f"round; {n_test} test episode(s) untouched")
     if n >= MIN_THREE_WAY:
-        n_test = max(1, round(n / 6))
         n_sel = max(1, round(n / 3))
         n_fit = n - n_test - n_sel
         idx = list(range(n))
