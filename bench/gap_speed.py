@@ -1,6 +1,6 @@
 """Speed of a full diagnosis: 20 episodes x 5 s at 100 Hz, whole effect library.
 
-Usage: python bench/gap_speed.py [--episodes 20] [--duration 5] [--effect quadratic_drag] [--jobs 2]
+Usage: python bench/gap_speed.py [--episodes 20] [--duration 5] [--effect quadratic_drag] [--jobs 2] [--cross-fit]
 Prints the answer (effects, parameters, 95 % intervals: a speed-up must not change them), the
 diagnosis wall time and CPU time (this process and its workers), next to a reference measured in
 the same run: stepping the same episodes once in raw pymunk at the same substep (the cost of one
@@ -20,6 +20,7 @@ import numpy as np
 
 from voe.gap.bench import make_case
 from voe.gap.finder import GapFinder
+from voe.gap.stages import GapConfig
 from voe.gap.shooting import local_state
 from voe.sim.scenefile import SimWorld
 
@@ -31,6 +32,8 @@ def main() -> None:
     ap.add_argument("--effect", default="quadratic_drag")
     ap.add_argument("--seed", type=int, default=3)
     ap.add_argument("--jobs", type=int, default=2, help="processes fitting candidates in parallel")
+    ap.add_argument("--cross-fit", action="store_true", help="the finder cross-fits (GapConfig.cross_fit): about "
+                    "twice the fitting work; the target is for the default")
     a = ap.parse_args()
     case = make_case(np.random.default_rng(a.seed), a.effect, episodes=a.episodes, duration=a.duration)
     n_samples = sum(len(e.t) for e in case.episodes)
@@ -43,13 +46,14 @@ def main() -> None:
 
     t0, c0 = time.perf_counter(), time.process_time()
     k0 = resource.getrusage(resource.RUSAGE_CHILDREN).ru_utime
-    finder = GapFinder(seed=0, n_jobs=a.jobs).fit(case.scene, case.episodes)
+    finder = GapFinder(seed=0, n_jobs=a.jobs, config=GapConfig(cross_fit=a.cross_fit)).fit(case.scene, case.episodes)
     wall, cpu = time.perf_counter() - t0, time.process_time() - c0
     kids = resource.getrusage(resource.RUSAGE_CHILDREN).ru_utime - k0
     found = "; ".join(f"{e['name']} " + ", ".join(f"{k} = {v:.4g} [{e['interval95'][k][0]:.4g}, {e['interval95'][k][1]:.4g}]"
                                                   for k, v in e["params"].items()) for e in finder.effects_) or "none"
     n_data, n_null = finder.problem_.shooter.n_rollouts, finder.search_.null_rollouts
     print(f"gap speed: {a.episodes} episodes x {a.duration:g} s at 100 Hz ({n_samples} samples), "
+          f"episodes scheme {finder.problem_.split.roles(finder.episodes_)['scheme']}, "
           f"{len(finder.problem_.candidates)} candidates, hidden {a.effect}, found {found} (verdict {finder.verdict_})")
     print(f"diagnosis wall time: {wall:.1f} s (--jobs {a.jobs}; target <= 20 s on 2 cores); cpu {cpu + kids:.1f} s "
           f"(main process {cpu:.1f} s, its workers {kids:.1f} s); os.cpu_count() = {os.cpu_count()}, "
