@@ -43,15 +43,12 @@ for spec in sys.argv[2:]:
     S.departure_p, S.more_replicates = orig_dep, orig_more
     zd, zn = parts['zd'], parts['zn']
     sr = D._signed_rank_p(zd, zn); ts = D.tail_p(*parts['short'])
-    tl = D.tail_p(zd, np.vstack([zn[None], parts['more_long']]))
+    zn_long = np.vstack([zn[None], parts['more_long']])  # (R, W) the four replicates' 1-s window z
+    tl = D.tail_p(zd, zn_long)
     old = min(1.0, 2 * min(sr, ts)); new = min(1.0, 3 * min(sr, ts, tl))
     v_old = 'unexplained' if loc.located and old < D.ALPHA else 'consistent'
     v_new = 'unexplained' if loc.located and new < D.ALPHA else 'consistent'
-    np.savez(f'/work/eval/s27/dep/{seed}.npz', zd1=zd, zn1=np.vstack([zn[None], parts['more_long']]), zd05=parts['short'][0], zn05=parts['short'][1], located=len(loc.located), p_main=loc.departure_p)
+    np.savez(f'/work/eval/s27/dep/{seed}.npz', zd1=zd, zn1=zn_long, zd05=parts['short'][0], zn05=parts['short'][1], located=len(loc.located), p_main=loc.departure_p)
     r = dict(seed=seed, truth=truth, nk=nk, located=len(loc.located), p_main=loc.departure_p, old=old, new=new, sr=sr, tail_short=ts, tail_long=tl, v_old=v_old, v_new=v_new)
     with open(out, 'a') as fh: fh.write(json.dumps(r) + '\n')
     print(seed, truth, nk, f"located {len(loc.located)} p main {loc.departure_p:.3g} old {old:.3g} new {new:.3g} (sr {sr:.3g} short {ts:.3g} long {tl:.3g})", v_old, '->', v_new, flush=True)
-    if len(sys.argv) and __import__('os').environ.get('DETAIL'):
-        allr = np.vstack([zn[None], parts['more_long']])
-        top = np.argsort(zd)[::-1][:8]
-        for w in top: print('   win', w, 'data', round(float(zd[w]),1), 'repl', np.round(allr[:, w], 1))

@@ -1,6 +1,6 @@
 """Offline: departure p under alternative tail statistics, from the dumped window z matrices."""
 import glob, json, numpy as np, sys
-from voe.gap.departure import _signed_rank_p, tail_p, ALPHA
+from voe.gap.departure import _signed_rank_p, tail_p, ALPHA  # tail_p: the 'sum' statistic, as main computes it
 
 def perm_p(zd, zn, stat, n_perm=2000, seed=0):
     zd = np.nan_to_num(np.asarray(zd, float), nan=0.0, posinf=1e300); zn = np.nan_to_num(np.atleast_2d(zn), nan=0.0, posinf=1e300)
@@ -30,7 +30,7 @@ for r in rows:
     ps = {}
     for name, st in STATS.items():
         for win in ('05', '1'):
-            ps[f'{name}@{win}'] = perm_p(d['zd' + win], d['zn' + win], st)
+            ps[f'{name}@{win}'] = (tail_p if name == 'sum' else lambda a, b: perm_p(a, b, st))(d['zd' + win], d['zn' + win])
     res[r['seed']] = (r, sr, ps)
 combos = {'main(sr+sum@05)': ('sum@05',), 'sr+sum@05+sum@1': ('sum@05', 'sum@1'), 'sr+top3@05': ('top3@05',), 'sr+top3@1': ('top3@1',),
           'sr+top3@05+top3@1': ('top3@05', 'top3@1'), 'sr+sum>log2@05': ('sum>log2@05',), 'sr+sum>log2@1': ('sum>log2@1',), 'sr+top5@05': ('top5@05',),
