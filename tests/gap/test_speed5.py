@@ -13,13 +13,10 @@ import numpy as np
 import pytest
 
 from voe.gap.bench import make_case
-from voe.gap.departure import more_replicates
 from voe.gap.effects import EFFECTS
-from voe.gap.locate import window_z
-from voe.gap.recordings import Episode
 from voe.gap.rollout import run_many, tiled
-from voe.gap.shooting import Shooter, local_state, make_windows, noise_model
-from voe.gap.synth import null_like, pose_noise, simulate_episode
+from voe.gap.shooting import local_state, noise_model
+from voe.gap.synth import null_like, simulate_episode
 from voe.sim import lockstep
 from voe.sim.lockstep import _Kick, _kick_dts, _plan, _Reader, _rows, _segments
 from voe.sim.scenefile import SimWorld
@@ -146,15 +143,3 @@ def test_nominal_replicates_are_those_simulated_one_by_one(case):
         pose0, vel0, _ = local_state(ep, 0)
         old = simulate_episode(case.scene, ep.id, ep.t, pose0, vel0, None, None, sigma, rng, 1e-3, phi)
         assert new.pose.tobytes() == old.pose.tobytes() and new.t.tobytes() == old.t.tobytes() and new.id == old.id
-    wins = make_windows(case.episodes, [0, 1], 0.5)
-    a_rng, b_rng = np.random.default_rng(5), np.random.default_rng(5)
-    z = more_replicates(case.scene, case.episodes, sigma, phi, 1e-3, 5, wins, a_rng, n=2)
-    motion = [simulate_episode(case.scene, ep.id, ep.t, *local_state(ep, 0)[:2], None, None, np.zeros_like(sigma),
-                               b_rng, 1e-3).pose for ep in case.episodes]
-    ref = []
-    for _ in range(2):
-        eps = [Episode(ep.id, ep.t.copy(), m + pose_noise(m.shape, sigma, phi, b_rng))
-               for ep, m in zip(case.episodes, motion, strict=True)]
-        ref.append(window_z(Shooter(case.scene, eps, 1e-3, 5), wins, sigma).max(axis=(1, 2)))
-    assert z.tobytes() == np.array(ref).reshape(2, len(wins)).tobytes()
-    assert a_rng.random() == b_rng.random()  # the same draws: the stages after see the same generator

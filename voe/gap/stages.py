@@ -18,8 +18,7 @@ import pandas as pd
 
 from voe.errors import DataError
 from voe.gap.context import frame_labels, near_contact
-from voe.gap.departure import WINDOW as DEPARTURE_WINDOW
-from voe.gap.departure import departure_p, more_replicates
+from voe.gap.departure import departure_p, local_replicates
 from voe.gap.effects import EFFECTS
 from voe.gap.effects.base import Effect, FitContext
 from voe.gap.fit import FitConfig, FitResult, Fitter
@@ -129,7 +128,7 @@ def locate_parts(p: Problem, config: GapConfig,
                  rng: np.random.Generator) -> tuple[list[Episode], Callable[[], Location]]:
     """``locate_step`` in two parts: the clean replicate (drawn from ``rng``), and the call that
     computes the rest: window z-scores of the data and the replicate, the located stretches and
-    the departure test (further clean replicates, drawn from ``rng``, which must not be used
+    the departure test (window-local clean replicates, drawn from ``rng``, which must not be used
     between the two).
 
     Why two: the search needs only the clean replicate to start (its null fits on it), and the
@@ -149,11 +148,8 @@ def locate_parts(p: Problem, config: GapConfig,
         z_strong = float(max(config.z_min, np.max(z_null)))
         z = window_z(p.shooter, windows, p.sigma)
         located = [x.to_dict() for x in locate(p.shooter, windows, z, z_thr)]
-        dep = make_windows(p.episodes, list(range(len(p.episodes))), DEPARTURE_WINDOW, bad_start=p.bad)  # (voe.gap.departure)
-        more = more_replicates(p.scene, p.episodes, p.sigma, p.phi, p.substep, p.half, dep, rng)  # (R - 1, W')
-        short = (window_z(p.shooter, dep, p.sigma).max(axis=(1, 2)),
-                 np.vstack([window_z(null_shooter, dep, p.sigma).max(axis=(1, 2))[None], more]))
-        return Location(windows, located, z_thr, z_strong, null_eps, departure_p(z.max(axis=(1, 2)), z_null, short))
+        local = local_replicates(p.shooter, windows, p.sigma, p.phi, rng)  # (R, W) (voe.gap.departure)
+        return Location(windows, located, z_thr, z_strong, null_eps, departure_p(z.max(axis=(1, 2)), z_null, local))
 
     return null_eps, finish
 
