@@ -45,6 +45,23 @@ def test_false_discovery_is_also_printed_on_the_earlier_runs_clean_cases():
     assert len([x for x in summary_lines([cycle] + extra[:89], 1e-3) if x.startswith("false discovery")]) == 1
 
 
+def test_a_clean_case_called_unexplained_is_a_false_discovery():
+    """``unexplained`` on clean data claims missing physics as a named effect does: both count,
+    in the line and in the target."""
+    from voe.gap.bench_score import targets
+
+    def clean(i, names=(), verdict="consistent"):
+        return {**_case("none", list(names), verdict=verdict), "seed": 150 + i, "role": "clean"}
+    rs = [clean(i) for i in range(40)]
+    rs[3] = clean(3, verdict="unexplained")
+    rs[7] = clean(7, ["friction"])
+    line = next(x for x in summary_lines(rs, 1e-3) if x.startswith("false discovery"))
+    assert line.startswith("false discovery on clean (white noise): 2/40 = 5 %, of which 1 unexplained")
+    assert next(ok for name, ok in targets(rs) if name.startswith("false discovery (white)")) is False  # bound > 8 %
+    rs[3] = clean(3)
+    assert "1/40 = 2 %, of which 0 unexplained" in next(x for x in summary_lines(rs, 1e-3) if x.startswith("false discovery"))
+
+
 def test_targets_are_judged_unrounded():
     """123/130 = 94.6 % printed "95 %" in earlier runs; the target lines judge the exact counts,
     and an out-of-library case left ``consistent`` fails "the rest named correctly or unexplained"."""

@@ -143,7 +143,7 @@ def targets(results: list[dict]) -> list[tuple[str, bool | None]]:
     clean = [r for r in results if r["truth"] == "none"]
     for nk in ("white", "coloured"):
         sub = [r for r in clean if r["noise_kind"] == nk]
-        fd = sum(r["n_effects"] > 0 for r in sub)
+        fd = sum(map(false_discovery, sub))
         out.append((f"false discovery ({nk}) <= 5 %, bound <= 8 % ({fd}/{len(sub)})",
                     (fd <= 0.05 * len(sub) and clopper_pearson(fd, len(sub))[1] <= 0.08) if sub else None))
     out.append(("no accepted effect of null strength", sum(r.get("null_strength", 0) for r in results) == 0))
@@ -166,15 +166,27 @@ def target_lines(results: list[dict]) -> list[str]:
     return lines
 
 
+def false_discovery(r: dict) -> bool:
+    """A clean case claims missing physics: an effect named, or the verdict ``unexplained``.
+
+    Why both: ``unexplained`` says the recordings depart from the nominal model in a way no
+    effect explains, which on clean data is as false as a named effect. Until session 28 only
+    named effects were counted; the untouched runs of sessions 22-25 had no clean case called
+    ``unexplained``, so their figures are the same either way."""
+    return r["n_effects"] > 0 or r["verdict"] == "unexplained"
+
+
 def false_discovery_lines(clean: list[dict], label: str = "") -> list[str]:
-    """One line per noise kind: clean cases with an effect named, and the 95 % Clopper-Pearson
-    upper bound of that rate."""
+    """One line per noise kind: clean cases with a false discovery (``false_discovery``), of
+    which ``unexplained``, and the 95 % Clopper-Pearson upper bound of the rate."""
     lines = []
     for nk in sorted({r["noise_kind"] for r in clean}):
         sub = [r for r in clean if r["noise_kind"] == nk]
-        k = sum(r["n_effects"] > 0 for r in sub)
-        lines.append(f"false discovery on clean ({nk} noise{label}): {_pct(k, len(sub))} (95 % Clopper-Pearson upper "
-                     f"bound {100 * clopper_pearson(k, len(sub))[1]:.1f} %; target <= 5 %, bound <= 8 %)")
+        k = sum(map(false_discovery, sub))
+        u = sum(r["n_effects"] == 0 and r["verdict"] == "unexplained" for r in sub)
+        lines.append(f"false discovery on clean ({nk} noise{label}): {_pct(k, len(sub))}, of which {u} unexplained "
+                     f"(95 % Clopper-Pearson upper bound {100 * clopper_pearson(k, len(sub))[1]:.1f} %; target <= 5 %, "
+                     f"bound <= 8 %)")
     return lines
 
 
