@@ -56,7 +56,8 @@ ALPHA = 0.01  # one located case in a hundred clean ones may be called unexplain
 N_PERM = 2000  # random exchanges of ``tail_p``: its smallest p-value is 1/2001
 # window-local clean replicates ``tail_p`` compares each window with: k departing windows can reach
 # p = 11^-k, so three suffice at ALPHA after the Bonferroni factor; on the development cases 20 found
-# the same patches at twice the cost (about 3.3 against 7.3 cpu-s on bench/gap_speed.py's case)
+# the same patches at twice the cost (5.1 against 9.1 cpu-s on bench/gap_speed.py's case, where the
+# half-second part this replaced took 1.8)
 REPLICATES = 10
 
 
@@ -153,7 +154,7 @@ def local_replicates(shooter: Shooter, windows: list[Window], sigma: np.ndarray,
     seg, wins = [], []
     for i, w in enumerate(windows):
         ep = shooter.episodes[w.ep]
-        lo = min(max(0, w.k0 - n_fit // 2), len(ep.t) - n_fit, w.k0)
+        lo = max(0, min(w.k0 - n_fit // 2, len(ep.t) - n_fit, w.k0))  # where local_state's fit at k0 starts
         seg.append(Episode(ep.id, ep.t[lo:w.k1 + 1].copy(), ep.pose[lo:w.k1 + 1]))
         wins.append(Window(i, w.k0 - lo, w.k1 - lo))
     whole = [Window(i, 0, len(e.t) - 1) for i, e in enumerate(seg)]
