@@ -20,8 +20,8 @@ import numpy as np
 
 from voe.gap.bench import make_case
 from voe.gap.finder import GapFinder
-from voe.gap.stages import GapConfig
 from voe.gap.shooting import local_state
+from voe.gap.stages import GapConfig
 from voe.sim.scenefile import SimWorld
 
 

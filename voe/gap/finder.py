@@ -209,4 +209,7 @@ class GapFinder:
                 "noise_floor": {n: dict(zip(("x", "y", "angle"), map(float, s), strict=True))
                                 for n, s in zip(self.scene_.names, self.problem_.sigma, strict=True)},
                 "noise_ar1": {n: dict(zip(("x", "y", "angle"), map(float, s), strict=True))
-                              for n, s in zip(self.scene_.names, self.problem_.phi, strict=True)}}
+                              for n, s in zip(self.scene_.names, self.problem_.phi, strict=True)},
+                "timing_jitter": None if (j := self.problem_.jitter) is None else
+                {"seconds": j.seconds, "sensor_noise": {n: dict(zip(("x", "y", "angle"), map(float, s), strict=True))
+                                                        for n, s in zip(self.scene_.names, j.sensor, strict=True)}}}

@@ -34,7 +34,7 @@ from voe.gap.effects.base import Effect, FitContext
 from voe.gap.recordings import Episode
 from voe.gap.rollout import run_many
 from voe.gap.shooting import Shooter, local_state, make_windows
-from voe.gap.synth import pose_noise
+from voe.gap.synth import replicate_noise
 
 N_REP = 8  # replicates: each costs one simulated copy of the fitting episodes plus its window terms
 # The replicates' spread understates the estimator's real spread, so the bias-corrected interval's
@@ -74,7 +74,7 @@ def replicate_errors(p, fit_ids: tuple[int, ...], window: float, effect: Effect,
     clean = run_many(p.scene, starts, [ep.t for ep in eps], p.substep, effect, params)  # (T, B, 3) each, once:
     out = []  # the replicates differ only in their noise
     for _ in range(n_rep):
-        reps = [Episode(ep.id, ep.t.copy(), pose + pose_noise(pose.shape, p.sigma, p.phi, rng))
+        reps = [Episode(ep.id, ep.t.copy(), pose + replicate_noise(pose, ep.t, p.sigma, p.phi, p.jitter, rng))
                 for ep, pose in zip(eps, clean, strict=True)]
         wins = make_windows(reps, list(range(len(reps))), window, bad_start=_bad_starts(p.scene, reps, p.half))
         terms = window_terms(Shooter(p.scene, reps, p.substep, p.half), p.sigma, wins, effect, params, ctx, f_scale)

@@ -62,7 +62,7 @@ _PHI = np.linspace(0.0, 0.95, 96)
 _STRIDES = (1, 2, 3, 4)
 
 
-def _d4_var(phi: np.ndarray) -> np.ndarray:
+def d4_var(phi: np.ndarray) -> np.ndarray:
     """Variance of the fourth difference of unit-variance AR(1) noise with coefficient ``phi``."""
     return 70 - 112 * phi + 56 * phi**2 - 16 * phi**3 + 2 * phi**4
 
@@ -95,14 +95,14 @@ def noise_model(episodes: list[Episode]) -> tuple[np.ndarray, np.ndarray]:
             continue
         best = (np.inf, 0.0, 0.0, 0.0)
         for ph in _PHI:
-            a = np.stack([_d4_var(ph ** np.asarray(_STRIDES, float)), sig2], axis=1)  # (S, 2)
+            a = np.stack([d4_var(ph ** np.asarray(_STRIDES, float)), sig2], axis=1)  # (S, 2)
             coef, *_ = np.linalg.lstsq(a / y[:, None], np.ones_like(y), rcond=None)  # relative errors
             coef = np.maximum(coef, 0.0)
             err = float(np.sum((a @ coef / y - 1.0) ** 2))
             if err < best[0]:
                 best = (err, ph, coef[0], coef[1])
         _, ph, s2, sig = best
-        if ph > 0.3 and sig < 0.2 * s2 * _d4_var(ph) and s2 > 0:
+        if ph > 0.3 and sig < 0.2 * s2 * d4_var(ph) and s2 > 0:
             sigma[b, k], phi[b, k] = np.sqrt(s2), ph
     return np.maximum(sigma, 1e-7), phi
 

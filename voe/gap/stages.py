@@ -24,6 +24,7 @@ from voe.gap.effects.base import Effect, FitContext
 from voe.gap.fit import FitConfig, FitResult, Fitter
 from voe.gap.folds import FoldedFitter
 from voe.gap.greedy import SearchResult, greedy
+from voe.gap.jitter import Jitter, timing_jitter
 from voe.gap.locate import locate, window_z
 from voe.gap.null import NullRound, NullSearch
 from voe.gap.prefit import FINE_HALF, flight_samples
@@ -68,6 +69,7 @@ class Problem:
     split: Split
     candidates: dict[str, Effect]
     shooter: Shooter
+    jitter: Jitter | None = None  # timing jitter the clean replicates reproduce (voe.gap.jitter), if clear
 
 
 @dataclass(frozen=True)
@@ -106,7 +108,7 @@ def prepare(scene: str | Path | SceneSpec, recordings: str | Path | pd.DataFrame
     half = choose_half(spec, eps, loc, sub)
     sigma, phi = noise_model(eps)
     return Problem(spec, eps, sigma, phi, sub, half, _bad_starts(spec, eps, half), split,
-                   _candidates(names, spec), Shooter(spec, eps, sub, half))
+                   _candidates(names, spec), Shooter(spec, eps, sub, half), timing_jitter(eps, phi))
 
 
 def locate_step(p: Problem, config: GapConfig, rng: np.random.Generator) -> Location:
@@ -139,7 +141,7 @@ def locate_parts(p: Problem, config: GapConfig,
     The same call on the same inputs gives the same location either way.
     """
     windows = make_windows(p.episodes, list(range(len(p.episodes))), config.locate_window, bad_start=p.bad)
-    null_eps = null_like(p.scene, p.episodes, p.sigma, rng, p.substep, p.phi)
+    null_eps = null_like(p.scene, p.episodes, p.sigma, rng, p.substep, p.phi, p.jitter)
 
     def finish() -> Location:
         null_shooter = Shooter(p.scene, null_eps, p.substep, p.half)
@@ -148,7 +150,7 @@ def locate_parts(p: Problem, config: GapConfig,
         z_strong = float(max(config.z_min, np.max(z_null)))
         z = window_z(p.shooter, windows, p.sigma)
         located = [x.to_dict() for x in locate(p.shooter, windows, z, z_thr)]
-        local = local_replicates(p.shooter, windows, p.sigma, p.phi, rng)  # (R, W) (voe.gap.departure)
+        local = local_replicates(p.shooter, windows, p.sigma, p.phi, rng, jitter=p.jitter)  # (R, W) (voe.gap.departure)
         return Location(windows, located, z_thr, z_strong, null_eps, departure_p(z.max(axis=(1, 2)), z_null, local))
 
     return null_eps, finish

@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from voe.gap.effects.base import Effect
+from voe.gap.jitter import Jitter, jitter_noise
 from voe.gap.recordings import Episode
 from voe.gap.shooting import local_state
 from voe.sim.lockstep import run_lockstep
@@ -50,12 +51,24 @@ def pose_noise(shape: tuple[int, ...], sigma: np.ndarray, phi: np.ndarray | floa
     return ar1_noise(shape, sigma, phi, rng)
 
 
+def replicate_noise(clean: np.ndarray, t: np.ndarray, sigma: np.ndarray, phi: np.ndarray | float,
+                    jitter: Jitter | None, rng: np.random.Generator) -> np.ndarray:
+    """(T, B, 3) the data's noise model drawn for a clean replicate's poses ``clean`` (T, B, 3) at
+    ``t`` (T,): ``pose_noise`` of ``sigma`` (B, 3) and ``phi``, or, when the recordings show timing
+    jitter (``voe.gap.jitter``), the sensor noise beneath it plus the jitter's error (the jitter
+    draws come after the sensor's, so without jitter the draws are exactly ``pose_noise``'s)."""
+    if jitter is None:
+        return pose_noise(clean.shape, sigma, phi, rng)
+    return pose_noise(clean.shape, jitter.sensor, phi, rng) + jitter_noise(clean, t, jitter.seconds, rng)
+
+
 def null_like(scene: SceneSpec, episodes: list[Episode], sigma: np.ndarray, rng: np.random.Generator,
-              substep: float, phi: np.ndarray | float = 0.0) -> list[Episode]:
+              substep: float, phi: np.ndarray | float = 0.0, jitter: Jitter | None = None) -> list[Episode]:
     """Clean copies of ``episodes``: nominal simulation from each one's estimated initial state,
-    with the data's noise model (``voe.gap.shooting.noise_model``); the same episodes as
-    ``simulate_episode`` makes one by one (the same motion, then the noise drawn in episode order)."""
-    return [Episode(ep.id, ep.t.copy(), m + pose_noise(m.shape, sigma, phi, rng))
+    with the data's noise model (``voe.gap.shooting.noise_model``, ``replicate_noise``); without
+    jitter the same episodes as ``simulate_episode`` makes one by one (the same motion, then the
+    noise drawn in episode order)."""
+    return [Episode(ep.id, ep.t.copy(), m + replicate_noise(m, ep.t, sigma, phi, jitter, rng))
             for ep, m in zip(episodes, nominal_motion(scene, episodes, substep), strict=True)]
 
 
