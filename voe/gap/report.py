@@ -115,7 +115,7 @@ def markdown(finder, figs: list[str]) -> str:
              f"| median standardised residual | {f['median_z_before']:.3g} | {f['median_z_after']:.3g} |", "",
              f"Figures on {f['on']}. {finder.problem_.split.note}. Acceptance threshold (round 1) "
              f"{100 * f['threshold_gain']:.1f} % selection-error improvement, from the identical search on "
-             "simulated clean data.", "", "## Effects", ""]
+             "simulated clean data." + _jitter_note(finder.problem_.jitter), "", "## Effects", ""]
     if finder.effects_:
         lines += ["| effect | parameters (95 % interval) | acts | bodies |", "|---|---|---|---|"]
         for e in finder.effects_:
@@ -140,6 +140,14 @@ def markdown(finder, figs: list[str]) -> str:
     if figs:
         lines += ["", "## Figures", ""] + [f"![{n}]({n})" for n in figs]
     return "\n".join(lines + [""])
+
+
+def _jitter_note(jitter) -> str:
+    """A sentence on the timing jitter the clean data reproduce (``voe.gap.jitter``), if any."""
+    if jitter is None:
+        return ""
+    return (f" The samples are taken off their time stamps by about {1e3 * jitter.seconds:.2g} ms (timing jitter, "
+            "estimated from the recordings); the clean data reproduce it.")
 
 
 def _group_lines(groups: list[list[str]], ties: list) -> list[str]:
