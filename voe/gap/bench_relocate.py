@@ -1,0 +1,36 @@
+"""Rescore a stored bench case with this code's location stage (``bench/gap_relocate.py``).
+
+Why exact: a change to the departure test reaches only the verdict of a case that named nothing
+(``unexplained`` when located and the departure p is below ``voe.gap.departure.ALPHA`` or a
+stretch's z is infinite, else ``consistent``); the departure p is read nowhere else, the finder's
+random stream is not used after the location, and the located stretches and the clean replicate
+are drawn before the departure test's replicates. So rerunning the location as the finder runs it
+(same case, seed and config) gives the verdict this code would give, provided the rest of the
+location is unchanged, which ``relocate`` checks (located count, no timing jitter modelled) and
+refuses otherwise.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from voe.errors import DataError
+from voe.gap.bench import make_case
+from voe.gap.departure import ALPHA
+from voe.gap.finder import GapFinder
+from voe.gap.stages import GapConfig, locate_step, prepare
+
+
+def relocate(r: dict, run: dict) -> dict:
+    """The stored case ``r`` with this code's departure p and verdict (``relocated``: the new p)."""
+    config = GapConfig(cross_fit=bool(run.get("cross_fit", False)))
+    case = make_case(np.random.default_rng(r["seed"]), r["truth"], run["noise"], run["episodes"], run["duration"],
+                     noise_kind=r["noise_kind"])
+    p = prepare(case.scene, case.episodes, GapFinder(seed=r["seed"]).effects, config)
+    loc = locate_step(p, config, np.random.default_rng(r["seed"]))
+    if len(loc.located) != r["located"] or p.jitter is not None:
+        raise DataError(f"case {r['seed']}: the location differs from the stored run (located {len(loc.located)} "
+                        f"vs {r['located']}, timing jitter modelled: {p.jitter is not None}); a rescore would not be exact")
+    wild = any(not np.isfinite(x["z"]) for x in loc.located)
+    verdict = "unexplained" if loc.located and (wild or loc.departure_p < ALPHA) else "consistent"
+    return {**r, "verdict": verdict, "relocated": float(loc.departure_p)}
