@@ -53,7 +53,7 @@ def main() -> None:
                                                   for k, v in e["params"].items()) for e in finder.effects_) or "none"
     n_data, n_null = finder.problem_.shooter.n_rollouts, finder.search_.null_rollouts
     print(f"gap speed: {a.episodes} episodes x {a.duration:g} s at 100 Hz ({n_samples} samples), "
-          f"episodes scheme {finder.problem_.split.roles(finder.episodes_)['scheme']}, "
+          f"episodes scheme {finder.problem_.split.scheme}, "
           f"{len(finder.problem_.candidates)} candidates, hidden {a.effect}, found {found} (verdict {finder.verdict_})")
     print(f"diagnosis wall time: {wall:.1f} s (--jobs {a.jobs}; target <= 20 s on 2 cores); cpu {cpu + kids:.1f} s "
           f"(main process {cpu:.1f} s, its workers {kids:.1f} s); os.cpu_count() = {os.cpu_count()}, "

@@ -65,11 +65,15 @@ class Split:
         """(fitting, selecting) indices per fold; the three-way split is one fold."""
         return tuple((f, s) for f, s, _ in self.folds) or ((self.fit, self.select),)
 
+    @property
+    def scheme(self) -> str:
+        """``cross-validation``, ``cross-fitting`` or ``three-way``."""
+        return "cross-validation" if self.cross_validated else "cross-fitting" if self.cross_fitted else "three-way"
+
     def roles(self, episodes: list[Episode]) -> dict:
         """Episode ids per role, for gap.json."""
         ids = [e.id for e in episodes]
-        scheme = "cross-validation" if self.cross_validated else "cross-fitting" if self.cross_fitted else "three-way"
-        out = {"scheme": scheme, "note": self.note,
+        out = {"scheme": self.scheme, "note": self.note,
                "fit": [ids[i] for i in self.fit], "select": [ids[i] for i in self.select],
                "test": [ids[i] for i in self.test]}
         if self.folds:
