@@ -7,7 +7,9 @@ random stream is not used after the location, and the located stretches and the 
 are drawn before the departure test's replicates. So rerunning the location as the finder runs it
 (same case, seed and config) gives the verdict this code would give, provided the rest of the
 location is unchanged, which ``relocate`` checks (located count, no timing jitter modelled) and
-refuses otherwise.
+refuses otherwise. What it cannot check: the cases that named an effect are not rerun, so the
+rescore is the current code's figure only when the code changed since the stored run in the
+departure test alone (``bench/gap_relocate.py`` prints which sources made the stored run).
 """
 
 from __future__ import annotations
