@@ -8,7 +8,6 @@ from pathlib import Path
 import numpy as np
 
 from voe.gap.bench import make_case
-from voe.gap.departure import ALPHA
 from voe.gap.finder import GapFinder
 from voe.gap.jitter import jitter_noise, timing_jitter
 from voe.gap.recordings import load_recordings
@@ -62,10 +61,13 @@ def test_jitter_noise_is_velocity_times_the_time_error():
     assert abs(np.std(e[:, 0, 0]) / 6e-3 - 1) < 0.05
 
 
-def test_a_clean_jittered_case_does_not_depart():
-    """Development case 6685241 (clean, jittered): against replicates with the noise model alone
-    it departed (p = 0.001, two located stretches: ``unexplained`` for a clean recording)."""
-    case = make_case(np.random.default_rng(6685241), "none", noise_kind="jitter")
-    p = prepare(case.scene, case.episodes, GapFinder(seed=6685241).effects, GapConfig())
-    assert p.jitter is not None
-    assert locate_step(p, GapConfig(), np.random.default_rng(6685241)).departure_p > ALPHA
+def test_clean_jittered_cases_are_not_called_unexplained():
+    """Development cases 6685247 and 1078255 (clean, jittered): against replicates with the noise
+    model alone (ffc6ae3, the finder's own draws) they were located (5 and 3 stretches) with departure
+    p 0.0001 and 0.001, so ``unexplained`` for clean recordings; with the jitter reproduced, p is 0.21
+    and 0.26."""
+    for seed in (6685247, 1078255):
+        case = make_case(np.random.default_rng(seed), "none", noise_kind="jitter")
+        p = prepare(case.scene, case.episodes, GapFinder(seed=seed).effects, GapConfig())
+        assert p.jitter is not None
+        assert locate_step(p, GapConfig(), np.random.default_rng(seed)).departure_p > 0.05, seed
