@@ -18,8 +18,7 @@ import numpy as np
 
 from voe.errors import DataError
 from voe.gap.bench import make_case
-from voe.gap.departure import ALPHA
-from voe.gap.finder import GapFinder
+from voe.gap.finder import GapFinder, unnamed_verdict
 from voe.gap.stages import GapConfig, locate_step, prepare
 
 
@@ -33,6 +32,4 @@ def relocate(r: dict, run: dict) -> dict:
     if len(loc.located) != r["located"] or p.jitter is not None:
         raise DataError(f"case {r['seed']}: the location differs from the stored run (located {len(loc.located)} "
                         f"vs {r['located']}, timing jitter modelled: {p.jitter is not None}); a rescore would not be exact")
-    wild = any(not np.isfinite(x["z"]) for x in loc.located)
-    verdict = "unexplained" if loc.located and (wild or loc.departure_p < ALPHA) else "consistent"
-    return {**r, "verdict": verdict, "relocated": float(loc.departure_p)}
+    return {**r, "verdict": unnamed_verdict(loc.located, loc.departure_p), "relocated": float(loc.departure_p)}

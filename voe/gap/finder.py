@@ -41,6 +41,19 @@ ALL_EFFECTS = tuple(n for n in EFFECTS.ids() if n != "none")
 __all__ = ["ALL_EFFECTS", "GapConfig", "GapFinder"]
 
 
+def unnamed_verdict(located: list[dict], departure_p: float) -> str:
+    """The verdict when no effect is named: ``unexplained`` when stretches are located and either
+    one is wild (infinite z) or the data depart as a whole (``departure_p`` below ALPHA: many
+    windows, not one chaotic one; ``voe.gap.departure``), else ``consistent``."""
+    wild = any(not np.isfinite(x["z"]) for x in located)
+    return "unexplained" if located and (wild or departure_p < ALPHA) else "consistent"
+
+
+def _per_body(names: tuple[str, ...] | list[str], values: np.ndarray) -> dict:
+    """(B, 3) per-body x, y, angle values as gap.json's ``{body: {x, y, angle}}``."""
+    return {n: dict(zip(("x", "y", "angle"), map(float, v), strict=True)) for n, v in zip(names, values, strict=True)}
+
+
 class GapFinder:
     """Find what a nominal pymunk scene leaves out, from recordings.
 
@@ -160,9 +173,7 @@ class GapFinder:
     def verdict_(self) -> str:
         if self.effects_:
             return "mismatch"
-        wild = any(not np.isfinite(x["z"]) for x in self.located_)
-        departs = self.location_.departure_p < ALPHA  # many windows, not one chaotic one (voe.gap.departure)
-        return "unexplained" if self.located_ and (wild or departs) else "consistent"
+        return unnamed_verdict(self.located_, self.location_.departure_p)
 
     @property
     def fit_(self) -> dict:
@@ -206,10 +217,7 @@ class GapFinder:
                 "null": {"z_threshold": self.z_threshold_, "z_max": self.z_strong_, "alpha": self.config.null_alpha,
                          "rounds": [r.to_dict() for r in self.search_.null]},
                 "rounds": [r.to_dict() for r in self.rounds_],
-                "noise_floor": {n: dict(zip(("x", "y", "angle"), map(float, s), strict=True))
-                                for n, s in zip(self.scene_.names, self.problem_.sigma, strict=True)},
-                "noise_ar1": {n: dict(zip(("x", "y", "angle"), map(float, s), strict=True))
-                              for n, s in zip(self.scene_.names, self.problem_.phi, strict=True)},
+                "noise_floor": _per_body(self.scene_.names, self.problem_.sigma),
+                "noise_ar1": _per_body(self.scene_.names, self.problem_.phi),
                 "timing_jitter": None if (j := self.problem_.jitter) is None else
-                {"seconds": j.seconds, "sensor_noise": {n: dict(zip(("x", "y", "angle"), map(float, s), strict=True))
-                                                        for n, s in zip(self.scene_.names, j.sensor, strict=True)}}}
+                {"seconds": j.seconds, "sensor_noise": _per_body(self.scene_.names, j.sensor)}}

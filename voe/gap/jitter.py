@@ -60,7 +60,7 @@ def timing_jitter(episodes: list[Episode], phi: np.ndarray) -> Jitter | None:
         d4, u = _terms(e)
         d4s.append(d4)
         us.append(u)
-    if not d4s or sum(len(d) for d in d4s) < BINS * MIN_BIN:
+    if sum(len(d) for d in d4s) < BINS * MIN_BIN:  # also no episodes at all
         return None
     d4, u = np.concatenate(d4s), np.concatenate(us)  # (N, B, 3) each
     n_bc = d4.shape[1] * 3
