@@ -1,5 +1,7 @@
 """A one-parameter fit left at its coarse grid's end, with the fitting cost still falling beyond
-it, is where the search stopped, not a fit: it is not reported (``voe.gap.check.beyond_grid``)."""
+it, is where the search stopped, not a fit (``voe.gap.check.beyond_grid``): it is refitted from
+there and reported only if the refit is a fit that passes the check's bars, else not at all
+(``voe.gap.check.past_grid``)."""
 
 from __future__ import annotations
 
@@ -26,6 +28,9 @@ FLOOR_6685146 = {0.2: 605855.0, 0.3: 462348.0, 0.5: 297819.0, 0.75: 194135.0, 1.
 MASS_6685007 = {0.2: 123173.0, 0.3: 96399.0, 0.5: 68064.0, 0.75: 40894.0, 1.35: 17182.0, 2.0: 10734.0,
                 2.5: 11494.0, 3.0: 12540.0, 3.3: 12929.0, 4.0: 14890.0, 5.0: 16189.0, 7.0: 18463.0,
                 10.0: 20957.0, 20.0: 24137.0}
+# a true mass of about 4 whose fit stopped at the grid's 3.3 (6685007's scan at twice the ratio; the
+# situation of untouched case 2307044, a true joint_friction 0.0200 stopped at 0.0192 in one fold)
+MASS_BEYOND = {2 * k: v for k, v in MASS_6685007.items()}
 
 
 class _Fold:
@@ -52,23 +57,62 @@ def test_a_value_with_the_cost_falling_beyond_the_grid_is_not_a_fit():
     assert check.beyond_grid(SimpleNamespace(folds=[_Fold(MASS_6685007)]), _model(2.0)) is None  # a minimum
 
 
-def test_the_check_drops_a_model_at_its_grid_end(monkeypatch):
-    def run(scan: dict[float, float], value: float):
-        model = _model(value)
-        monkeypatch.setattr(check, "fit_context", lambda p, ids=None: None)
-        monkeypatch.setattr(check, "model_intervals", lambda p, ids, m, ctx, config, seed: (np.array([1.4]),
-                                                                                            np.array([4.6])))
-        monkeypatch.setattr(check, "verify_on_test", lambda p, model, config, z: (None, "test"))
-        monkeypatch.setattr(check, "selection_z", lambda p, fitter, m: (np.ones(9), np.ones(9)))  # nothing departs
-        rounds = (Round(0.01, {}, {}, {}, 0.05, "mass[box]", ("mass[box]",)),)
-        s = SimpleNamespace(result=SearchResult(model, rounds, ("mass[box]",), np.ones(9), False),
-                            fitter=SimpleNamespace(folds=[_Fold(scan)]))
-        return check.check_step(SimpleNamespace(split=SimpleNamespace(fit=(0, 1))), SimpleNamespace(z_threshold=5.0),
-                                s, GapConfig(), 0)
+class _Folded:
+    """The check's fitter over one ``_Fold``: its refine step goes on to the scan's minimum, where
+    the selection windows' errors are ``refit_sse``."""
 
-    c = run(FLOOR_6685146, 3.3)
+    def __init__(self, scan: dict[float, float], refit_sse: float) -> None:
+        self.folds, self.scan, self.refit_sse = [_Fold(scan)], scan, refit_sse
+
+    def refine(self, res: FitResult) -> FitResult:
+        best = np.array([min(self.scan, key=self.scan.get)])
+        return FitResult(res.effect, best, 0, 0, np.full(9, self.refit_sse), (best,))
+
+
+def _check(monkeypatch, scan: dict[float, float], value: float, refit_sse: float, interval=(1.4, 4.6), folded=None):
+    """The check of a ``mass[box]`` left at ``value``, the grid's end (selection gain 50 % against
+    a 5 % threshold), its refit's selection errors ``refit_sse`` (nominal 1) and intervals ``interval``."""
+    monkeypatch.setattr(check, "fit_context", lambda p, ids=None: None)
+    monkeypatch.setattr(check, "model_intervals", lambda p, ids, m, ctx, config, seed: (np.array([interval[0]]),
+                                                                                        np.array([interval[1]])))
+    monkeypatch.setattr(check, "verify_on_test", lambda p, model, config, z: (None, "test"))
+    monkeypatch.setattr(check, "selection_z", lambda p, fitter, m: (np.ones(9), np.ones(9)))  # nothing departs
+    rounds = (Round(0.01, {}, {}, {}, 0.05, "mass[box]", ("mass[box]",)),)
+    s = SimpleNamespace(result=SearchResult(_model(value), rounds, ("mass[box]",), np.ones(9), False),
+                        fitter=(folded or _Folded)(scan, refit_sse))
+    return check.check_step(SimpleNamespace(split=SimpleNamespace(fit=(0, 1))), SimpleNamespace(z_threshold=5.0),
+                            s, GapConfig(), 0)
+
+
+def test_the_check_drops_a_model_at_its_grid_end_whose_refit_gains_too_little(monkeypatch):
+    c = _check(monkeypatch, FLOOR_6685146, 3.3, refit_sse=0.97)  # at 7 the selection gain is 3 %
     assert c.model is None and "where the search stopped" in c.dropped[0]["reason"]
-    assert run(MASS_6685007, 2.0).keys == ("mass[box]",)
+    assert "refitted where the fitting windows want it (7)" in c.dropped[0]["reason"]
+    assert _check(monkeypatch, MASS_6685007, 2.0, refit_sse=0.97).keys == ("mass[box]",)  # a minimum: not refitted
+
+
+def test_the_check_reports_the_refit_of_a_true_effect_stopped_at_its_grid_end(monkeypatch):
+    c = _check(monkeypatch, MASS_BEYOND, 3.3, refit_sse=0.4)
+    assert c.keys == ("mass[box]",) and c.model.params[0] == 4.0 and not c.dropped
+    assert list(c.lower) == [1.4] and list(c.upper) == [4.6]
+    c = _check(monkeypatch, MASS_BEYOND, 3.3, refit_sse=0.4, interval=(0.5, 4.6))  # not established there
+    assert c.model is None and "its 95 % interval contains the nominal value" in c.dropped[0]["reason"]
+
+
+def test_the_refit_is_not_reported_when_the_cross_fitted_folds_disagree(monkeypatch):
+    """Development case 2307140 (a floor patch): ``friction`` refitted 1.98 and 0.73 in its two
+    folds, interval [0.99, 1.50] holding neither."""
+    class Halves(_Folded):
+        def refine(self, res: FitResult) -> FitResult:
+            one = super().refine(res)
+            return FitResult(one.effect, one.params, 0, 0, one.window_sse, (one.params * 1.5, one.params / 1.5))
+
+    def run(interval):
+        return _check(monkeypatch, MASS_BEYOND, 3.3, refit_sse=0.4, interval=interval, folded=Halves)
+
+    c = run((1.4, 4.6))  # the folds at 6 and 2.67: 6 is outside
+    assert c.model is None and "the folds disagree" in c.dropped[0]["reason"]
+    assert run((1.4, 6.5)).keys == ("mass[box]",)  # both inside: a fit
 
 
 def test_the_fit_says_when_it_stopped_at_its_grid_end():
