@@ -1,7 +1,7 @@
 """A one-parameter fit left at its coarse grid's end, with the fitting cost still falling beyond
-it, is where the search stopped, not a fit (``voe.gap.check.beyond_grid``): it is refitted from
+it, is where the search stopped, not a fit (``voe.gap.grid_end.beyond_grid``): it is refitted from
 there and reported only if the refit is a fit that passes the check's bars, else not at all
-(``voe.gap.check.past_grid``)."""
+(``voe.gap.grid_end.past_grid``)."""
 
 from __future__ import annotations
 
@@ -10,6 +10,7 @@ from types import SimpleNamespace
 import numpy as np
 
 import voe.gap.check as check
+import voe.gap.grid_end as grid_end
 from voe.gap.effects import EFFECTS
 from voe.gap.effects.base import EffectSum
 from voe.gap.fit import FitResult, Fitter
@@ -52,9 +53,9 @@ def _model(value: float) -> FitResult:
 
 
 def test_a_value_with_the_cost_falling_beyond_the_grid_is_not_a_fit():
-    why = check.beyond_grid(SimpleNamespace(folds=[_Fold(FLOOR_6685146)]), _model(3.3))
+    why = grid_end.beyond_grid(SimpleNamespace(folds=[_Fold(FLOOR_6685146)]), _model(3.3))
     assert why is not None and "where the search stopped" in why
-    assert check.beyond_grid(SimpleNamespace(folds=[_Fold(MASS_6685007)]), _model(2.0)) is None  # a minimum
+    assert grid_end.beyond_grid(SimpleNamespace(folds=[_Fold(MASS_6685007)]), _model(2.0)) is None  # a minimum
 
 
 class _Folded:
