@@ -25,6 +25,17 @@ def test_clean_data_is_consistent():
     assert f.effects_ == []
     assert all(x["z"] <= f.z_strong_ for x in f.located_)
     assert f.fit_["before"] == f.fit_["after"]
+    # the three-way split named nothing, so the finder looked again cross-fitted and says so
+    assert f.problem_.split.scheme == "cross-fitting" and f.to_dict()["episodes"]["scheme"] == "cross-fitting"
+    assert f.to_dict()["second_look"]["verdict"] == "consistent" and f.first_look_["scheme"] == "three-way"
+    assert "Second look" in f.explanation_
+
+
+def test_second_look_can_be_turned_off():
+    scene, eps = flight_episodes(n=6, duration=2.0, seed=5)
+    f = GapFinder(effects=FEW, seed=0, config=GapConfig(second_look=False)).fit(scene, eps)
+    assert f.verdict_ == "consistent" and f.problem_.split.scheme == "three-way"
+    assert f.to_dict()["second_look"] is None and "Second look" not in f.explanation_
 
 
 def test_hidden_linear_drag_is_found_and_fitted():
@@ -36,6 +47,7 @@ def test_hidden_linear_drag_is_found_and_fitted():
     assert f.fit_["after"] < 0.5 * f.fit_["before"]
     assert f.located_ and {x["context"] for x in f.located_} == {"flight"}
     assert "linear_drag" in f.explanation_
+    assert f.first_look_ is None and f.problem_.split.scheme == "three-way"  # named at once: no second look
 
 
 def test_cross_fitted_finder_selects_on_every_non_test_episode():

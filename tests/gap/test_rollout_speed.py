@@ -25,8 +25,9 @@ from voe.sim.lockstep import schedule
 from voe.sim.scenefile import _STATIC, Materials, SimState, SimWorld
 
 
-def _pymunk_pre(e: float, x0: float, x1: float):
-    """The pre-solve callback as it was before (through pymunk's dispatcher and Arbiter)."""
+def _pymunk_pre(e: float, x0: float, x1: float, get=lib.cpShapeGetElasticity, put=lib.cpArbiterSetRestitution):
+    """The pre-solve callback as it was before (through pymunk's dispatcher and Arbiter); with
+    ``get``/``put`` of friction, the reference of the region friction set the same way."""
     seg_p, other_p = ffi.new("cpShape *[1]"), ffi.new("cpShape *[1]")
 
     def pre(arb: pymunk.Arbiter, space: pymunk.Space, data: object) -> None:
@@ -37,8 +38,8 @@ def _pymunk_pre(e: float, x0: float, x1: float):
         x = lib.cpArbiterGetContactPointSet(a).points[0].pointA.x
         w = 1.0 / (1.0 + math.exp(-max(-50.0, min(50.0, (x - x0) / 0.01))))
         w /= 1.0 + math.exp(-max(-50.0, min(50.0, (x1 - x) / 0.01)))
-        seg_e = lib.cpShapeGetElasticity(seg_p[0])
-        lib.cpArbiterSetRestitution(a, lib.cpShapeGetElasticity(other_p[0]) * (seg_e + w * (e - seg_e)))
+        seg_e = get(seg_p[0])
+        put(a, get(other_p[0]) * (seg_e + w * (e - seg_e)))
 
     return pre
 
@@ -51,19 +52,29 @@ def arena():
     return case, starts
 
 
-@pytest.mark.parametrize("region", [(0.2, -1.0, 1.0), (0.9, -0.3, 0.05), (0.0, -8.0, 8.0), (0.6, 5.0, 6.0)])
-def test_region_restitution_callback_is_bit_for_bit_the_pymunk_one(arena, region):
+REGIONS = [("elasticity", r) for r in [(0.2, -1.0, 1.0), (0.9, -0.3, 0.05), (0.0, -8.0, 8.0), (0.6, 5.0, 6.0)]] + \
+    [("friction", r) for r in [(3.0, -1.0, 1.0), (0.1, -0.3, 0.6), (2.5, 5.0, 6.0)]]
+
+
+@pytest.mark.parametrize(("kind", "region"), REGIONS)
+def test_region_callback_is_bit_for_bit_the_pymunk_one(arena, kind, region):
     case, starts = arena
     t = case.episodes[0].t[:120]
+    mats = Materials(region_elasticity=region) if kind == "elasticity" else Materials(region_friction=region)
+    ref = (lib.cpShapeGetElasticity, lib.cpArbiterSetRestitution) if kind == "elasticity" else \
+        (lib.cpShapeGetFriction, lib.cpArbiterSetFriction)
     for pose0, vel0 in starts:
-        fast = SimWorld(case.scene, pose0, vel0, Materials(region_elasticity=region))
+        fast = SimWorld(case.scene, pose0, vel0, mats)
         slow = SimWorld(case.scene, pose0, vel0)
-        slow.space.on_collision(_STATIC, None, pre_solve=_pymunk_pre(*region))
+        slow.space.on_collision(_STATIC, None, pre_solve=_pymunk_pre(*region, *ref))
         np.testing.assert_array_equal(fast.run(t, 1e-3), slow.run(t, 1e-3))
     plain = SimWorld(case.scene, *starts[0]).run(t, 1e-3)
-    if region[0] != 0.6:  # the patch is where the bodies bounce: the callback acts
-        assert not np.array_equal(SimWorld(case.scene, *starts[0], Materials(region_elasticity=region)).run(t, 1e-3),
-                                  plain)
+    if region[1] < 5.0:  # the patch is where the bodies bounce and slide: the callback acts
+        assert not np.array_equal(SimWorld(case.scene, *starts[0], mats).run(t, 1e-3), plain)
+    if kind == "friction":  # with a restitution patch where no body touches, as with the friction alone
+        both = Materials(region_elasticity=(0.5, 7.0, 7.5), region_friction=region)
+        np.testing.assert_array_equal(SimWorld(case.scene, *starts[0], both).run(t, 1e-3),
+                                      SimWorld(case.scene, *starts[0], mats).run(t, 1e-3))
 
 
 def _schedule_loop(times: np.ndarray, substep: float) -> tuple[list[float], list[int]]:

@@ -55,7 +55,7 @@ def test_inside_at_is_inside_to_the_bit():
         _same(inside_at(x0, x1)(x), inside(x, x0, x1))
 
 
-@pytest.mark.parametrize("name", ["friction_region", "rolling_resistance_region", "rolling_resistance"])
+@pytest.mark.parametrize("name", ["rolling_resistance_region", "rolling_resistance"])
 @pytest.mark.parametrize("bodies", [None, ("ball",)])
 def test_prepared_force_laws_are_their_forces_to_the_bit(name, bodies):
     """``prepare`` (what the rollouts call at every kick) against ``forces`` (``_forces`` and the

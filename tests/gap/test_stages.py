@@ -193,7 +193,6 @@ def test_flight_regression_on_top_of_an_accepted_region_effect():
     scene, eps = flight_episodes("linear_drag", [0.3], n=2, duration=1.0, seed=2)
     ctx = context_for(scene, eps)
     cur = EFFECTS.get("friction_region")()
-    cur._radius = np.zeros(2)  # as after a rollout on the two-body bench scene
     cand = EFFECTS.get("linear_drag")()
     lo, hi = cand.bounds(ctx)
     out = prefit_starts(cand, cand.starts(ctx), lo, hi, cand.scale(ctx), ctx.flight, scene, cur, np.array([0.3, 0.0, 1.0]))
@@ -224,6 +223,34 @@ def test_restitution_region_changes_bounces_only_inside_its_interval():
     assert peak(0.0, np.array([1.0, -0.5, 0.5])) == pytest.approx(free, abs=1e-6)  # nominal: unchanged
     both = (EFFECTS.get("linear_drag")() + eff).materials(np.array([0.0, 0.3, -0.5, 0.5]), scene)
     assert both.region_elasticity == (0.3, -0.5, 0.5)
+
+
+def test_friction_region_changes_slides_only_inside_its_interval():
+    from voe.gap.synth import simulate_episode
+    from voe.sim.scenefile import StaticSpec
+
+    scene = SceneSpec((0.0, -9.81), (BodySpec("box", "box", mass=1.0, size=(0.3, 0.2), friction=0.3),),
+                      (StaticSpec((-5.0, 0.0), (5.0, 0.0), 0.0, 1.0, 0.0),))
+    eff = EFFECTS.get("friction_region")()
+    ctx = context_for(scene, [Episode(0, np.array([0.0, 1.0]), np.array([[[-1.0, 0.1, 0.0]], [[2.0, 0.1, 0.0]]]))])
+    assert eff.nominal(ctx)[0] == 1.0 and not eff.has_forces and eff.acts == "region"
+    assert eff.bounds(ctx)[1][0] == 4.0 and min(b - a for _, a, b in eff.starts(ctx)) < (ctx.hi[0] - ctx.lo[0]) / 3
+    t = np.arange(151) / 100
+    rng = np.random.default_rng(0)
+
+    def stop(params: np.ndarray | None) -> float:  # where the box, sliding at 3 m/s from x = -1, comes to rest
+        pose = simulate_episode(scene, 0, t, np.array([[-1.0, 0.1, 0.0]]), np.array([[3.0, 0.0, 0.0]]),
+                                None if params is None else eff, params, np.zeros((1, 3)), rng).pose
+        return float(pose[-1, 0, 0])
+
+    free = stop(None)  # 0.3 g: about 1.5 m of sliding
+    assert free == pytest.approx(-1.0 + 9.0 / (2 * 0.3 * 9.81), abs=0.1)
+    assert stop(np.array([3.0, -0.6, 0.0])) < 0.0  # a sticky patch stops it inside (free: at about +0.5 m)
+    assert stop(np.array([0.2, -0.8, 2.0])) > free + 1.0  # a slick patch lets it run on
+    assert stop(np.array([3.0, 2.0, 3.0])) == pytest.approx(free, abs=1e-9)  # beyond where it stops: unchanged
+    assert stop(np.array([1.0, -0.6, 0.0])) == pytest.approx(free, abs=1e-6)  # nominal: unchanged
+    both = (EFFECTS.get("restitution_region")() + eff).materials(np.array([0.3, -0.5, 0.5, 2.0, 0.0, 1.0]), scene)
+    assert both.region_elasticity == (0.3, -0.5, 0.5) and both.region_friction == (2.0, 0.0, 1.0)
 
 
 def test_centred_bootstrap_varies_about_the_whole_samples_one_step_estimate():

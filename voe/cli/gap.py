@@ -39,6 +39,8 @@ def diagnose_cmd(
     jobs: int = typer.Option(2, "--jobs", min=1, help="processes fitting candidates in parallel (same result)"),
     cross_fit: bool = typer.Option(False, "--cross-fit", help="halves of the non-test episodes swap fitting and "
                                    "selection: more evidence for effects felt in few windows, twice the fitting work"),
+    second_look: bool = typer.Option(True, "--second-look/--no-second-look", help="when the three-way split names "
+                                     "nothing, look again cross-fitted (GapConfig.second_look)"),
 ) -> None:
     """Locate the mismatch, name and fit the missing effects, verify on held-out episodes."""
     from tqdm import tqdm
@@ -56,7 +58,7 @@ def diagnose_cmd(
             bar.total = n
             bar.refresh()
 
-        finder = diagnose(scene, recordings, out, names, max_effects, seed, config=GapConfig(cross_fit=cross_fit),
+        finder = diagnose(scene, recordings, out, names, max_effects, seed, config=GapConfig(cross_fit=cross_fit, second_look=second_look),
                           figures=not no_figures, progress=progress,
                           n_jobs=jobs, total=total)
     typer.echo(f"verdict: {finder.verdict_}")

@@ -177,7 +177,8 @@ class Fitter:
         starts = [np.clip(s, lo, hi) for s in starts]
         n_fit = effect.parts[-1].multi_start if len(starts) > 1 else 1
         if len(starts) > 1:  # rank starts by training cost on a third of the windows
-            sub = self._on(self.train[::3], self._weights[::3])
+            every = 1 if effect.parts[-1].screen_all else 3
+            sub = self._on(self.train[::every], self._weights[::every])
             costs = [sub.cost(effect, s) for s in starts]
             starts = [starts[i] for i in np.argsort(costs, kind="stable")[:n_fit]]
         best = None

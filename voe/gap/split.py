@@ -14,7 +14,8 @@ effect (as another fold's selection episode); what a fold reports comes from an 
 neither fitted nor selected in that fold, and there is no untouched test split. Fewer than three
 episodes cannot fill the three roles and are refused.
 
-Cross-fitting (``GapConfig.cross_fit``, opt-in): a three-way split's fit/selection cut leaves a
+Cross-fitting (``GapConfig.cross_fit``; by default only as a second look when the three-way split
+named nothing, ``GapConfig.second_look`` in ``voe.gap.finder``): a three-way split's fit/selection cut leaves a
 truth felt in few windows (a box mass felt only in collisions, a rolling resistance only while
 the ball rolls) with too few selection windows to pass the bootstrap (``voe.gap.bench.expression``).
 With cross-fitting the episodes before the test split are halved, one fold fits on the first half

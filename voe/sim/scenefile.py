@@ -133,6 +133,8 @@ class Materials:
     # (e, x0, x1): static surfaces have elasticity e at contact points with x0 <= x <= x1
     # (edges smoothed over 1 cm), set per contact (``voe.gap.effects.restitution_region``)
     region_elasticity: tuple[float, float, float] | None = None
+    # (u, x0, x1): static surfaces have friction u there, the same way (``voe.gap.effects.region``)
+    region_friction: tuple[float, float, float] | None = None
 
 
 class SimWorld:
@@ -176,8 +178,9 @@ class SimWorld:
             lib.cpShapeSetElasticity(seg._shape, st.elasticity)  # noqa: SLF001
             lib.cpShapeSetCollisionType(seg._shape, _STATIC)  # noqa: SLF001
             self.space.add(seg)
-        if mat.region_elasticity is not None:  # chipmunk's own handler, called from C (see _region_pre)
-            region = ffi.new("double[3]", mat.region_elasticity)  # e, x0, x1
+        if mat.region_elasticity is not None or mat.region_friction is not None:  # chipmunk's own handler (_region_pre)
+            nan3 = (math.nan,) * 3  # a NaN value: that material is not set per contact
+            region = ffi.new("double[6]", (*(mat.region_elasticity or nan3), *(mat.region_friction or nan3)))
             self.space._voe_region = region  # lives as long as the space that points at it
             handler = lib.cpSpaceAddCollisionHandler(self.space._space, _STATIC, _WILDCARD)  # noqa: SLF001
             handler.preSolveFunc, handler.userData = _region_pre, region
@@ -263,10 +266,13 @@ _WILDCARD = int(ffi.cast("uintptr_t", ~0))  # chipmunk's CP_WILDCARD_COLLISION_T
 @ffi.callback("void(cpArbiter *, cpSpace *, void *)")
 def _region_pre(arb: object, space: object, data: object, cast=ffi.cast, exp=math.exp,
                 cached=lib.CP_ARBITER_STATE_CACHED, position=lib.cpBodyGetPosition,
-                elasticity=lib.cpShapeGetElasticity) -> None:
-    """pre_solve of a space built with ``Materials.region_elasticity``: restitution of a contact
-    with a static segment, blended from the segment's elasticity to ``e`` inside [x0, x1]
-    (smooth edges keep a fit of x0, x1 smooth); ``data`` points at the world's (e, x0, x1).
+                elasticity=lib.cpShapeGetElasticity, friction=lib.cpShapeGetFriction) -> None:
+    """pre_solve of a space built with ``Materials.region_elasticity`` or ``region_friction``:
+    restitution (friction) of a contact with a static segment, blended from the segment's
+    elasticity (friction) to ``e`` (``u``) inside [x0, x1] (smooth edges keep a fit of x0, x1
+    smooth); ``data`` points at the world's (e, x0, x1, u, ux0, ux1), NaN where not set.
+    Chipmunk sets the arbiter's ``e`` and ``u`` from the two shapes before every pre_solve, so
+    what is set here holds for this step only, as pymunk's ``Arbiter.friction`` setter does.
 
     Why this form: it runs at every substep of every resting contact (about 1700 calls per
     simulated second of a ball and a box on the floor), and registered through
@@ -274,7 +280,7 @@ def _region_pre(arb: object, space: object, data: object, cast=ffi.cast, exp=mat
     chipmunk calls it directly and it reads the arbiter's fields, as chipmunk's own getters do:
     ``cpArbiterGetCount`` (no points once cached), ``cpArbiterGetShapes`` and the first point's
     ``pointA`` of ``cpArbiterGetContactPointSet`` (the static segment's side, in the handler's
-    order: the arbiter's second shape when it is swapped), and ``cpArbiterSetRestitution``. The
+    order: the arbiter's second shape when it is swapped), and ``cpArbiterSetRestitution`` (``SetFriction``). The
     clip of the edge terms keeps ``max(-50, min(50, v))``'s semantics. Same values to the bit
     (``tests/gap/test_lockstep.py``).
     """
@@ -287,16 +293,22 @@ def _region_pre(arb: object, space: object, data: object, cast=ffi.cast, exp=mat
     else:
         seg, other = arb.a, arb.b
         x = position(arb.body_a).x + arb.contacts[0].r1.x
-    v = (x - p[1]) / 0.01
-    v = v if v < 50.0 else 50.0
-    v = v if v > -50.0 else -50.0
-    w = 1.0 / (1.0 + exp(-v))
-    v = (p[2] - x) / 0.01
-    v = v if v < 50.0 else 50.0
-    v = v if v > -50.0 else -50.0
-    w /= 1.0 + exp(-v)
-    seg_e = elasticity(seg)
-    arb.e = elasticity(other) * (seg_e + w * (p[0] - seg_e))
+    for k in (0, 3):  # p[0]: restitution, p[3]: friction; NaN (p[k] != p[k]): not set per contact
+        if p[k] == p[k]:
+            v = (x - p[k + 1]) / 0.01
+            v = v if v < 50.0 else 50.0
+            v = v if v > -50.0 else -50.0
+            w = 1.0 / (1.0 + exp(-v))
+            v = (p[k + 2] - x) / 0.01
+            v = v if v < 50.0 else 50.0
+            v = v if v > -50.0 else -50.0
+            w /= 1.0 + exp(-v)
+            if k:
+                seg_u = friction(seg)
+                arb.u = friction(other) * (seg_u + w * (p[3] - seg_u))
+            else:
+                seg_e = elasticity(seg)
+                arb.e = elasticity(other) * (seg_e + w * (p[0] - seg_e))
 
 
 @functools.lru_cache(maxsize=256)

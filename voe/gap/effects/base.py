@@ -66,6 +66,7 @@ class Effect:
     flight_regression: ClassVar[bool] = True  # free-flight accelerations can seed its starts (voe.gap.prefit)
     fine_flight: ClassVar[bool] = False  # also seed from accelerations smoothed over a short span (``FitContext.flight_fine``)
     bench_scene: ClassVar[str | None] = None  # the bench scene it is concealed in ("arena", "pendulum"), or None
+    screen_all: ClassVar[bool] = False  # rank its starts on every training window, not a third (voe.gap.fit)
     multi_start: ClassVar[int] = 1  # simulator fits from its this many most promising starts (voe.gap.fit)
     global_name: ClassVar[str | None] = None  # a region effect's unlimited version (voe.gap.search.covers_contacts)
     limit_name: ClassVar[str | None] = None  # the simpler effect it nests as ``limit_params`` run off (``at_limit``)
@@ -272,10 +273,11 @@ class EffectSum(Effect):
 
     def materials(self, params: np.ndarray, scene: SceneSpec) -> Materials:
         fr, el, ms = [None] * len(scene.bodies), [None] * len(scene.bodies), np.ones(len(scene.bodies))
-        region = None
+        region = region_u = None
         for e, p in zip(self._parts, self.split(params), strict=True):
             m = e.materials(p, scene)
             region = m.region_elasticity if m.region_elasticity is not None else region
+            region_u = m.region_friction if m.region_friction is not None else region_u
             for i in range(len(scene.bodies)):
                 if m.friction and m.friction[i] is not None:
                     fr[i] = m.friction[i]
@@ -283,7 +285,7 @@ class EffectSum(Effect):
                     el[i] = m.elasticity[i]
             if m.mass_scale:
                 ms = ms * np.asarray(m.mass_scale)
-        return Materials(tuple(fr), tuple(el), tuple(float(x) for x in ms), region)
+        return Materials(tuple(fr), tuple(el), tuple(float(x) for x in ms), region, region_u)
 
     def starts(self, ctx: FitContext) -> list[np.ndarray]:
         out = [np.zeros(0)]

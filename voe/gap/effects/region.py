@@ -6,9 +6,9 @@ fitted to a patch is wrong everywhere else, and an unlimited library has no name
 finder once said "agree" next to a located mismatch. These effects name the patch and bound it:
 parameters are the strength and the interval [x0, x1] in which it acts (edges smoothed over
 ``EDGE`` so the fit stays smooth). Both act only while a body touches something. Friction is
-modelled as an extra Coulomb force against the contact point's slip (for a circle, the point
-below its centre; otherwise the centre's velocity), with the matching torque on a circle. The
-region-limited restitution is ``voe.gap.effects.restitution_region`` (set per contact).
+the floor's coefficient inside the interval, set per contact by the simulator
+(``Materials.region_friction``); rolling resistance is a force against the velocity. The
+region-limited restitution is ``voe.gap.effects.restitution_region`` (set per contact too).
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ import numpy as np
 
 from voe.gap.effects.base import Effect, FitContext
 from voe.gap.effects.rolling_resistance import rolling_force
-from voe.sim.scenefile import SceneSpec, SimState
+from voe.sim.scenefile import Materials, SceneSpec, SimState
 
 EDGE = 0.01  # m, smoothing of the interval's edges
 _V0 = 0.01  # m/s, smoothing speed of the force direction
@@ -59,7 +59,7 @@ class _Region(Effect):
     flight_regression = False
     STRENGTHS: tuple[float, ...] = ()
     LOW, HIGH, STEP = 0.0, 1.0, 0.1
-    _radius: np.ndarray | float = 0.0
+    EDGE_GRID = 0  # if set, starting intervals also join points of a grid of this many steps over the x range
 
     def applies(self, scene: SceneSpec) -> bool:
         return bool(scene.statics)
@@ -68,6 +68,10 @@ class _Region(Effect):
         lo, hi = float(ctx.lo[0]), float(ctx.hi[0])
         third = (hi - lo) / 3
         spans = [(lo, lo + third), (lo + third, lo + 2 * third), (lo + 2 * third, hi), (lo + 0.75 * third, hi - 0.75 * third)]
+        if self.EDGE_GRID:  # narrower patches: every interval joining points of a grid, up to a quarter of the range
+            edges = np.linspace(lo, hi, self.EDGE_GRID + 1)  # (EDGE_GRID + 1,)
+            spans += [(float(edges[i]), float(edges[i + k])) for k in range(1, self.EDGE_GRID // 4 + 1)
+                      for i in range(self.EDGE_GRID + 1 - k)]
         return [np.array([s, a, b]) for s in self.strengths(ctx) for a, b in spans]
 
     def strengths(self, ctx: FitContext) -> tuple[float, ...]:
@@ -83,56 +87,62 @@ class _Region(Effect):
         return np.array([self.STEP, 0.05 * size, 0.05 * size])
 
 
+def floor_friction(scene: SceneSpec) -> float:
+    """Mean friction coefficient of the static segments (the surfaces slid on)."""
+    return float(np.mean([s.friction for s in scene.statics])) if scene.statics else 0.0
+
+
 class FrictionRegion(_Region):
+    """The floor's friction coefficient inside [x0, x1], set per contact by the simulator.
+
+    Why per contact and not a force: a patch changes the contact's coefficient, static friction
+    included, so a box that reaches a sticky patch stops and tips about its leading edge, and a
+    ball's spin is caught. Session 33 traced the seed-6774 floor patches (floor 1.0, patch 2.7 and
+    2.9 over about 1 m) with the earlier form, a Coulomb force against the slip at the body's
+    centre: at the true interval no strength gained on the fitting windows (train gain below
+    6 %, negative on one), so the finder could only say ``consistent`` or name a global
+    ``friction`` as a stand-in. Pymunk multiplies the body's and the surface's coefficients;
+    this sets the surface's, as ``friction`` sets the bodies'. Nominal: the floor's own.
+    """
+
     name = "friction_region"
     saturates = True  # the body sticks / the ball stops (``Effect.saturates``)
-    param_names = ("d_mu", "x0", "x1")
+    param_names = ("friction", "x0", "x1")
     units = ("", "m", "m")
     summary = "sliding contacts between x0 and x1 have a different friction coefficient (a floor patch)"
-    STRENGTHS, LOW, HIGH, STEP = (0.3, -0.2), -1.0, 2.0, 0.1
     global_name = "friction"
+    # a sticky patch of 1 m in an 8.6 m range changes little unless an interval near it starts the
+    # fit: the four thirds-wide spans never reached the seed-6774 patches (session 33), which gain
+    # 21-26 % on the selection windows at their true intervals; the screen (cost on a third of the
+    # fitting windows) ranks these cheaply and only the best is fitted
+    EDGE_GRID = 12
+    screen_all = True
 
-    def _forces(self, state: SimState, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        w = state.contact().astype(float) * inside(state.pos[:, 0], p[1], p[2])  # (B,)
-        g = float(np.linalg.norm(state.gravity))
-        slip = state.vel.copy()
-        slip[:, 0] += state.omega * self._radius  # contact point below a circle's centre
-        n = np.sqrt(np.sum(slip**2, axis=1, keepdims=True) + _V0**2)
-        f = -p[0] * g * (state.mass * w)[:, None] * slip / n
-        return f, self._radius * f[:, 0]
+    @property
+    def has_forces(self) -> bool:
+        return False
 
-    def prepare(self, params, scene):
-        """``forces`` with the radii, |g|, -d_mu |g| and the edges' constants computed once.
+    def strengths(self, ctx: FitContext) -> tuple[float, ...]:
+        """A slicker and a stickier patch, half and twice the floor's coefficient (0.5 and 1 on a
+        frictionless floor), each times the four starting intervals."""
+        fu = floor_friction(ctx.scene)
+        return (0.5 * fu, 2.0 * fu) if fu > 0.25 else (0.5, 1.0)
 
-        Why: on top of a drag, every rollout of round 2 and of the pair step that carries this
-        effect calls it at every kick (about 6 % of ``bench/gap_speed.py``'s CPU). The same
-        operations on the same values in the same order as ``_forces`` (|g| of the state's
-        gravity, recomputed if another array comes), so the same forces to the bit.
-        """
-        p = self.check(params)
-        radius = np.array([b.radius if b.shape == "circle" else 0.0 for b in scene.bodies])
-        self._radius = radius
-        m = self.mask(scene)
-        mf = None if m.all() else m.astype(float)
-        ins = inside_at(p[1], p[2])
-        memo: list = [None, 0.0]  # gravity array, -d_mu |g|
+    def bounds(self, ctx: FitContext) -> tuple[np.ndarray, np.ndarray]:
+        lo, hi = super().bounds(ctx)
+        hi[0] = 4.0 * max(floor_friction(ctx.scene), 0.5)  # up to four times the floor's grip
+        return lo, hi
 
-        def force(st: SimState) -> tuple[np.ndarray, np.ndarray]:
-            if memo[0] is not st.gravity:
-                memo[:] = [st.gravity, -p[0] * float(np.linalg.norm(st.gravity))]
-            w = st.contact().astype(float) * ins(st.pos[:, 0])  # (B,)
-            slip = st.vel.copy()
-            slip[:, 0] += st.omega * radius  # contact point below a circle's centre
-            n = np.sqrt(np.add.reduce(slip**2, axis=1, keepdims=True) + _V0**2)  # np.sum's reduction
-            f = memo[1] * (st.mass * w)[:, None] * slip / n
-            tau = radius * f[:, 0]
-            return (f, tau) if mf is None else (f * mf[:, None], tau * mf)
+    def scale(self, ctx: FitContext) -> np.ndarray:
+        out = super().scale(ctx)
+        out[0] = 0.1 * max(floor_friction(ctx.scene), 0.5)
+        return out
 
-        return force
+    def _materials(self, p: np.ndarray, scene: SceneSpec) -> Materials:
+        return Materials(region_friction=(float(p[0]), float(p[1]), float(p[2])))
 
-    def forces(self, state, params, scene):
-        self._radius = np.array([b.radius if b.shape == "circle" else 0.0 for b in scene.bodies])
-        return super().forces(state, params, scene)
+    def nominal(self, ctx: FitContext) -> np.ndarray:
+        return np.array([floor_friction(ctx.scene), np.nan, np.nan])
 
 
 class RollingResistanceRegion(_Region):
