@@ -145,7 +145,10 @@ def test_located_mismatch_no_effect_explains_is_unexplained():
     assert f.verdict_ == "unexplained" and f.effects_ == []
     assert "agree" not in f.explanation_ and "No effect in the library explains it" in f.explanation_
     assert "episode" in f.explanation_ and " t = " in f.explanation_ and " x " in f.explanation_
-    assert f.to_dict()["episodes"]["scheme"] == "three-way"
+    # nothing named on the three-way split, so the finder looked again cross-fitted: unexplained both times
+    d = f.to_dict()
+    assert d["episodes"]["scheme"] == "cross-fitting" and d["second_look"]["scheme"] == "three-way"
+    assert d["second_look"]["verdict"] == "unexplained" and "Second look" in f.explanation_
 
 
 def test_tie_break_uses_windows_where_predictions_differ():
