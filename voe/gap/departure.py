@@ -51,6 +51,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.stats import ttest_1samp, wilcoxon
 
+from voe.gap.effects.base import Effect
 from voe.gap.jitter import Jitter
 from voe.gap.locate import window_z
 from voe.gap.recordings import Episode
@@ -142,8 +143,11 @@ def tail_p(z_data: np.ndarray, z_null: np.ndarray, n_perm: int = N_PERM, seed: i
 
 
 def local_replicates(shooter: Shooter, windows: list[Window], sigma: np.ndarray, phi: np.ndarray,
-                     rng: np.random.Generator, n: int = REPLICATES, jitter: Jitter | None = None) -> np.ndarray:
-    """(n, W) largest window z of ``n`` window-local clean replicates of the data's ``windows``.
+                     rng: np.random.Generator, n: int = REPLICATES, jitter: Jitter | None = None,
+                     effect: Effect | None = None, params: np.ndarray | None = None) -> np.ndarray:
+    """(n, W) largest window z of ``n`` window-local clean replicates of the data's ``windows``;
+    with ``effect`` and ``params``, replicates of that model instead of the nominal one (its motion,
+    and its own window z on them: ``voe.gap.check.deepened``).
 
     Each window is cut out together with the samples its centred start fit reaches back to (from
     ``lo``), so its z is computed as the location's is. A replicate of it starts at ``lo`` from the
@@ -164,13 +168,15 @@ def local_replicates(shooter: Shooter, windows: list[Window], sigma: np.ndarray,
         seg.append(Episode(ep.id, ep.t[lo:w.k1 + 1].copy(), ep.pose[lo:w.k1 + 1]))
         wins.append(Window(i, w.k0 - lo, w.k1 - lo))
     whole = [Window(i, 0, len(e.t) - 1) for i, e in enumerate(seg)]
-    base = Shooter(shooter.scene, seg, shooter.substep, shooter.half).simulate_many(whole, None, None)  # (n_i, B, 3)
+    base = Shooter(shooter.scene, seg, shooter.substep, shooter.half).simulate_many(whole, effect, params)  # (n_i, B, 3)
     out = []
     for _ in range(n):
         drawn = Shooter(shooter.scene, [Episode(e.id, e.t, m + replicate_noise(m, e.t, sigma, phi, jitter, rng))
                                         for e, m in zip(seg, base, strict=True)], shooter.substep, shooter.half)
-        path = drawn.simulate_many(whole, None, None)  # from the refitted, so perturbed, start
+        path = drawn.simulate_many(whole, effect, params)  # from the refitted, so perturbed, start
         eps = [Episode(e.id, e.t, m + replicate_noise(m, e.t, sigma, phi, jitter, rng))
                for e, m in zip(seg, path, strict=True)]
-        out.append(window_z(Shooter(shooter.scene, eps, shooter.substep, shooter.half), wins, sigma).max(axis=(1, 2)))
+        rep = Shooter(shooter.scene, eps, shooter.substep, shooter.half)
+        res = rep.residuals(wins, effect, params) if effect is not None else None
+        out.append(window_z(rep, wins, sigma, res).max(axis=(1, 2)))
     return np.array(out).reshape(n, len(windows))

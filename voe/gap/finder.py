@@ -132,7 +132,7 @@ class GapFinder:
                                      ahead)
                 # the final model's test figures: it must not leave the typical test window departing more
                 self.checked_: Checked = worse_on_test(checked, self.problem_, config, self.location_.z_threshold,
-                                                       self.location_.null_episodes)
+                                                       self.location_.null_episodes, self.seed)
         return steps
 
     # --- findings, read from the stage results ----------------------------------------------

@@ -53,6 +53,7 @@ class GapConfig:
     gain_lower_q: float | None = 0.05  # the gain's bootstrap quantile over selection windows must be > 0
     z_min: float = 5.0
     deepen_factor: float = 2.0  # a test window's rise must pass this many times max(replicate z, threshold)
+    deepen_replicates: int = 10  # the model's own window-local replicates of such a window (0: none; voe.gap.check.deepened)
     fit: FitConfig = FitConfig()
 
 
