@@ -58,9 +58,9 @@ def diagnose_cmd(
             bar.total = n
             bar.refresh()
 
-        finder = diagnose(scene, recordings, out, names, max_effects, seed, config=GapConfig(cross_fit=cross_fit, second_look=second_look),
-                          figures=not no_figures, progress=progress,
-                          n_jobs=jobs, total=total)
+        config = GapConfig(cross_fit=cross_fit, second_look=second_look)
+        finder = diagnose(scene, recordings, out, names, max_effects, seed, config=config,
+                          figures=not no_figures, progress=progress, n_jobs=jobs, total=total)
     typer.echo(f"verdict: {finder.verdict_}")
     typer.echo(finder.explanation_)
     typer.echo(f"wrote {out / 'gap.json'}")

@@ -113,8 +113,8 @@ class FrictionRegion(_Region):
     global_name = "friction"
     # a sticky patch of 1 m in an 8.6 m range changes little unless an interval near it starts the
     # fit: the four thirds-wide spans never reached the seed-6774 patches (session 33), which gain
-    # 21-26 % on the selection windows at their true intervals; the screen (cost on a third of the
-    # fitting windows) ranks these cheaply and only the best is fitted
+    # 21-26 % on the selection windows at their true intervals; the screen (cost on every fitting
+    # window, ``Effect.screen_all``) ranks these cheaply and only the best is fitted
     EDGE_GRID = 12
     screen_all = True
 
