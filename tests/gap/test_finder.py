@@ -31,6 +31,19 @@ def test_clean_data_is_consistent():
     assert "Second look" in f.explanation_
 
 
+def test_only_the_second_look_answers_to_the_test_gain_bar(monkeypatch):
+    import voe.gap.finder as finder
+
+    seen = []
+    monkeypatch.setattr(finder, "short_on_test", lambda c, p, config, z: seen.append(p.split.scheme) or c)
+    scene, eps = flight_episodes(n=6, duration=2.0, seed=5)
+    GapFinder(effects=FEW, seed=0).fit(scene, eps)  # named nothing: looked again, and the bar is asked
+    assert seen == ["cross-fitting"]
+    scene, eps = flight_episodes("linear_drag", [0.4], n=6, duration=2.0, seed=6)
+    f = GapFinder(effects=FEW, seed=0).fit(scene, eps)  # named at once: no second look, no bar
+    assert seen == ["cross-fitting"] and f.effects_[0]["name"] == "linear_drag"
+
+
 def test_second_look_can_be_turned_off():
     scene, eps = flight_episodes(n=6, duration=2.0, seed=5)
     f = GapFinder(effects=FEW, seed=0, config=GapConfig(second_look=False)).fit(scene, eps)

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from voe.gap.check import Checked, check_step, effect_dicts, worse_on_test
+from voe.gap.check import Checked, check_step, effect_dicts, short_on_test, worse_on_test
 from voe.gap.departure import ALPHA
 from voe.gap.drift import DriftAhead, drift_step
 from voe.gap.effects import EFFECTS
@@ -94,8 +94,9 @@ class GapFinder:
                                 "located": len(self.located_), "dropped": [d["effect"] for d in self.checked_.dropped],
                                 "departure_p": self.location_.departure_p}
             note("second look: cross-fitting")
-            self._look(scene, recordings, replace(self.config, cross_fit=True), note,
-                       None if total is None else (lambda n: total(steps + 1 + n)))
+            second = replace(self.config, cross_fit=True)
+            self._look(scene, recordings, second, note, None if total is None else (lambda n: total(steps + 1 + n)))
+            self.checked_ = short_on_test(self.checked_, self.problem_, second, self.location_.z_threshold)
         return self
 
     def _look(self, scene, recordings, config: GapConfig, note: Callable[[str], None],

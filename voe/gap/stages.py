@@ -48,6 +48,7 @@ class GapConfig:
     cross_fit: bool = False  # halves swap fitting and selection (voe.gap.split); twice the fitting work
     cross_fit_budget: float = 50.0  # selection seconds over both folds when cross-fitted: every window of 10 episodes of 3 s
     second_look: bool = True  # a three-way split that names nothing is looked at again, cross-fitted (voe.gap.finder)
+    second_look_test_gain: float = 0.05  # the second look's name must lower the test RMSE by this fraction (check.short_on_test)
     min_gain: float = 0.05  # practical floor: a selection gain below 5 % is never accepted
     null_alpha: float = 0.05  # the threshold is the null's best gain at this upper quantile
     gain_lower_q: float | None = 0.05  # the gain's bootstrap quantile over selection windows must be > 0
