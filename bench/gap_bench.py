@@ -12,7 +12,8 @@ count only towards the false-discovery rate.
 
 ``--results FILE`` appends each case's result to FILE as it finishes; run again with the same
 arguments (and the same code) and only the missing cases run, so a run cut off by a stopped machine
-resumes instead of starting over. ``--score-only`` prints the summary of the stored cases without
+resumes instead of starting over (the stored cases' lines are not printed again, so an untouched
+run is not read before it ends; the summary covers them). ``--score-only`` prints the summary of the stored cases without
 running any (``voe.gap.bench_store``). ``--shard I/N`` runs every N-th case from the I-th, so a
 SLURM job array spreads one run over nodes (``--shard $SLURM_ARRAY_TASK_ID/N --results
 runs/b.$SLURM_ARRAY_TASK_ID.jsonl``); ``--score-only --results runs/b.0.jsonl,runs/b.1.jsonl,...``

@@ -95,6 +95,24 @@ def test_command_and_cli_print_the_same_lines_and_score_from_the_store(tmp_path,
         [s for s in res.output.splitlines() if s.startswith("single-effect")]
 
 
+def test_a_resumed_command_does_not_show_the_stored_cases(tmp_path, monkeypatch):
+    """An untouched run is not read before its end: resuming prints only the cases run now."""
+    from voe.gap.bench_run import BenchRun, bench_command
+
+    calls: list[int] = []
+    monkeypatch.setattr(bench, "run_case", _fake(calls))
+    path, run = tmp_path / "r.jsonl", BenchRun(cases=3, seed=2, clean=1, clean_kinds=("coloured",))
+    bench_command(run, results=str(path), echo=lambda s: None)
+    path.write_text("\n".join(path.read_text().splitlines()[:3]) + "\n")  # the header and two cases stored
+    calls.clear()
+    lines: list[str] = []
+    out = bench_command(run, results=str(path), echo=lines.append)
+    assert calls == [2002, 2003] and len(out) == 4
+    assert lines[0] == f"resumed from {path}: 2 cases stored, their lines not shown again"
+    assert [s.split(":")[0] for s in lines if s.startswith("  case")] == ["  case 2002", "  case 2003"]
+    assert any(s.startswith("false discovery on clean (coloured noise)") for s in lines)  # the summary: all four
+
+
 def test_unknown_truth_and_missing_store_are_one_line_errors(tmp_path):
     from tests.reliability.cli import assert_one_line_error, run_voe
 

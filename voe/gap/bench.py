@@ -273,7 +273,7 @@ def run_bench(cases: int = 22, noise: float = 1e-3, seed: int = 0, jobs: int = 1
               progress: Callable[[dict], None] | None = None, clean: int | None = None,
               truths: tuple[str, ...] = TRUTHS, episodes: int = 12, duration: float = 3.0, compound: int = 0,
               outside: int = 0, clean_kinds: tuple[str, ...] = ("white",), store: BenchStore | None = None,
-              shard: tuple[int, int] | None = None, cross_fit: bool = False) -> list[dict]:
+              shard: tuple[int, int] | None = None, cross_fit: bool = False, show_stored: bool = True) -> list[dict]:
     """Run the cases of ``plan``; each has ``episodes`` recordings of ``duration`` seconds.
 
     ``store``: case results already in it are taken from it (reported first, in plan order) and
@@ -281,6 +281,7 @@ def run_bench(cases: int = 22, noise: float = 1e-3, seed: int = 0, jobs: int = 1
     ``shard`` ``(I, N)``: only the plan's rows I, I + N, I + 2N, ... (one task of a job array; the
     shards' stores are scored together with ``voe.gap.bench_store.read_stores``).
     ``cross_fit``: the finder cross-fits (``GapConfig.cross_fit``).
+    ``show_stored``: ``progress`` is called for the cases taken from the store too.
     Returns the results in plan order.
     """
     rows = plan(cases, seed, clean, truths, compound, outside, clean_kinds)
@@ -296,7 +297,7 @@ def run_bench(cases: int = 22, noise: float = 1e-3, seed: int = 0, jobs: int = 1
     for s, _, _, _ in rows:
         if s in done:
             results.append(done[s])
-            if progress:
+            if progress and show_stored:
                 progress(results[-1])
     todo = [(s, t, noise, max_effects, episodes, duration, nk, cross_fit) for s, t, nk, _ in rows if s not in done]
     for r in parallel_map(run_case, todo, jobs):

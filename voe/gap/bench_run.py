@@ -99,10 +99,14 @@ def bench_command(run: BenchRun, jobs: int = 1, results: str | None = None, scor
         if len(files) > 1:
             raise DataError("gap bench: a running bench stores into one --results file (one per --shard)")
         store = BenchStore(files[0], run.store_key(), shard=part) if files else None
+        if store is not None and store.done:
+            # a run read before its end could steer the code it measures: the stored cases' lines
+            # were printed when they ran, and --score-only scores them; a resume does not show them
+            echo(f"resumed from {files[0]}: {len(store.done)} cases stored, their lines not shown again")
         out = run_bench(run.cases, run.noise, run.seed, jobs, clean=run.clean, truths=run.truths,
                         episodes=run.episodes, duration=run.duration, compound=run.compound, outside=run.outside,
                         clean_kinds=run.clean_kinds, store=store, shard=part, progress=lambda r: echo(case_line(r)),
-                        cross_fit=run.cross_fit)
+                        cross_fit=run.cross_fit, show_stored=False)
     if part is not None:
         echo(f"shard {part[0]}/{part[1]}: {len(out)} cases; score every shard's file together with "
              "--score-only --results FILE,FILE,...")
