@@ -16,9 +16,8 @@ alone, judged without the selection quantile, must also clear a departure: leave
 windows above the located threshold than the nominal model does (``clears_none``). A model whose
 one parameter is where its fit's coarse grid stopped, with the fitting cost still falling beyond, is
 not a fit: it is refitted from there and reported only if the refit is a fit that passes the same
-bars, else not at all (``voe.gap.grid_end``). Last, after the drift test, the final model must not
-leave the typical test window departing more than the nominal model does, nor add to any one test
-window an error that is itself a departure (``worse_on_test``).
+bars, else not at all (``voe.gap.grid_end``). Last, after the drift test, the final model must carry
+over to the test episodes (``voe.gap.carry_over``).
 """
 
 from __future__ import annotations
@@ -29,7 +28,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from voe.gap.departure import local_replicates
 from voe.gap.effects.base import Effect, EffectSum, FitContext
 from voe.gap.fit import FitResult
 from voe.gap.folds import FoldedFitter, as_sum, without
@@ -37,9 +35,7 @@ from voe.gap.grid_end import beyond_grid, past_grid
 from voe.gap.locate import window_z
 from voe.gap.parametric import replicate_errors
 from voe.gap.profile import nominal_side, profile_interval
-from voe.gap.recordings import Episode
 from voe.gap.search import Round, gain_lower_bound, window_gain
-from voe.gap.shooting import Shooter
 from voe.gap.stages import GapConfig, Location, Problem, Search, fit_context, fit_windows
 from voe.gap.uncertainty import established, intervals
 from voe.gap.verify import Verification, verify
@@ -203,153 +199,6 @@ def check_step(p: Problem, loc: Location, s: Search, config: GapConfig, seed: in
     ver, note = verify_on_test(p, model, config, loc.z_threshold)
     nominal = model.effect.nominal(ctx) if model is not None else np.zeros(0)
     return Checked(model, tuple(keys), lo, hi, tuple(dropped), ver, note, nominal)
-
-
-def worse_on_test(c: Checked, p: Problem, config: GapConfig, z_thr: float,
-                  null_episodes: list[Episode] | None = None, seed: int = 0) -> Checked:
-    """``c`` with nothing reported if its model leaves the typical test window departing (median
-    window z above the located threshold ``z_thr``) and departing more than the nominal model
-    leaves it (``Verification.median_z_before``), or, given the clean replicate's ``null_episodes``,
-    adds to any one test window an error that is itself a departure (``deepened``); else ``c``. The
-    last step, after the drift test (``voe.gap.finder``), on the final model's test figures, which
-    nothing before has seen.
-
-    Why: a missing library effect, fitted, takes the windows it acts in towards what clean data
-    shows; on episodes it has not seen it can fall short (a second effect not found), but it
-    does not make the typical window depart more. Physics outside the library, fitted by a
-    library effect, moves error between windows, and where it is wrong it is wrong everywhere the
-    effect acts. Development case 6685149 (a gust) named ``rolling_resistance`` 0.048 once the
-    drift test had dropped ``quadratic_drag``: test windows z 10.1, 18.6, 62.8 -> 24.4, 3.5,
-    48.0 against 5.0 (median 18.6 -> 24.4; test RMSE 88 -> 70 mm, carried by the worst window);
-    on the selection windows it had cleared 3 of 11 departures (11 -> 8), so ``clears_none``
-    passed it. Right names leave the median test window z at or below the threshold (session 23
-    must-stay cases, docs/gap-findings.md).
-    """
-    v = c.verification
-    if c.model is None:
-        return c
-    if v.median_z_after > max(v.median_z_before, z_thr):
-        why = (f"on the test episodes the median window z rises from {v.median_z_before:.1f} to "
-               f"{v.median_z_after:.1f}, above the located threshold z = {z_thr:.1f}: it does not carry over")
-    else:
-        deep = deepened(p, c.model, config, z_thr, null_episodes, v, seed) if null_episodes is not None else []
-        if not deep:
-            return c
-        why = ("on the test episodes it adds an error that is itself a departure: " + ", ".join(
-            f"a window from z {b:.1f} to {a:.1f} (a rise of {np.sqrt(a * a - b * b):.1f}; clean replicate {n:.1f}, "
-            f"the model's own replicates {m:.1f})" for b, a, n, m in deep)
-            + f", located threshold z = {z_thr:.1f}: it does not carry over")
-    return drop_all(c, p, config, z_thr, why)
-
-
-def short_on_test(c: Checked, p: Problem, config: GapConfig, z_thr: float) -> Checked:
-    """``c`` with nothing reported if its model lowers the test-split RMSE by less than
-    ``config.second_look_test_gain`` (5 %); else ``c``. Asked of the second look's answer only
-    (``voe.gap.finder``), after ``worse_on_test``.
-
-    Why: the second look cross-fits, so every non-test episode selects and a weakly felt truth
-    passes the bootstrap; by the same token a clean case's noise gets two chances to be named.
-    On development seed 6774 every right name a cross-fitted look gave where the three-way split
-    had named nothing lowered the test RMSE by 16 % or more (6774016 ``friction`` 16.0 %, 024 and
-    050 ``rolling_resistance`` 38.1 and 58.8 %, 055 ``friction`` 84.9 %, 080
-    ``constant_acceleration`` 89.1 %), and the second look's two wrong names by 0.1 % (floor patch
-    6774148, ``friction``) and 2.0 % (clean 6774226, ``rolling_resistance`` 0.0032: 2.32 -> 2.27
-    mm); both now read ``consistent``, as they did before the second look existed.
-    A name that does not predict unseen episodes better by a practical margin is not worth a
-    claim, and the bar reads test figures the finder already has (docs/gap-findings.md,
-    sessions 34 and 35). Not asked of the first look: its bootstrap on the selection windows is
-    the stricter bar, and a right first-look name can lower the test RMSE little where one
-    chaotic window dominates it (6774127 ``restitution``, 7.6 %; stopped seed 4261's three right
-    first-look ``mass`` names, whose fits trade collisions, -14.3, 0.0 and -0.9 %).
-    """
-    v = c.verification
-    if c.model is None or not np.isfinite(v.rmse_before) or v.rmse_before <= 0:
-        return c
-    gain = 1.0 - v.rmse_after / v.rmse_before
-    if gain >= config.second_look_test_gain:
-        return c
-    why = (f"the second look's name lowers the test RMSE by only {100 * gain:.1f} % ({v.rmse_before:.4g} -> "
-           f"{v.rmse_after:.4g} m), below {100 * config.second_look_test_gain:g} %: not a practical gain on "
-           "episodes it has not seen")
-    return drop_all(c, p, config, z_thr, why)
-
-
-def drop_all(c: Checked, p: Problem, config: GapConfig, z_thr: float, why: str) -> Checked:
-    """``c`` with every effect dropped for ``why`` and the nominal model's test figures."""
-    ver, note = verify_on_test(p, None, config, z_thr)
-    return Checked(None, (), np.zeros(0), np.zeros(0), c.dropped + tuple({"effect": k, "reason": why} for k in c.keys),
-                   ver, note, np.zeros(0))
-
-
-def deepened(p: Problem, model: FitResult, config: GapConfig, z_thr: float, null_episodes: list[Episode],
-             ver: Verification | None = None, seed: int = 0) -> list[tuple[float, float, float, float]]:
-    """(z without, z with ``model``, z of the clean replicate, median z of the model's own
-    replicates) of each test window where ``model`` adds an error that is itself a departure: the
-    rise of the window's squared z, as a z, ``sqrt(z_with^2 - z_without^2)``, above
-    ``config.deepen_factor`` (2) times the largest of the located threshold ``z_thr``, the clean
-    replicate's z there (the nominal model on nominal motion from the same recorded starts: how far
-    noise alone, amplified by a chaotic collision, takes that window) and the median z of the
-    model's own window-local replicates there (``config.deepen_replicates`` of them,
-    ``voe.gap.departure.local_replicates`` with the model: how far noise takes the window if the
-    model is right; drawn from ``seed``, and only for windows the first two bars do not excuse).
-
-    Why: a missing library effect, fitted, can leave a test window as it was (a second effect not
-    found, a collision whose outcome flips), but it does not add to a window an error that clean
-    data would call a departure; physics outside the library fitted by a library effect moves
-    error between windows, and on episodes it was not fitted on it puts error where there was
-    none. If the model's change to a window's prediction were orthogonal to the window's residual,
-    z_with^2 = z_without^2 + (its change in sigmas)^2: the rise is the model's own error there.
-    Designed on development seed 1078 (the final model's test windows in all 150 non-clean
-    cases, main 8419ffe; docs/gap-findings.md, session 24): gust 1078143 (named
-    ``rolling_resistance_region``, ``quadratic_drag``) takes a window from z 6.0 to 15.8, a rise of
-    14.5 against a threshold of 5.4 and a replicate z of 5.6; floor patch 4593142 (``mass[ball]``,
-    development seed 4593) 38.2 -> 49.3, a rise of 31.1 against 11.4 and 2.4. Of the 122 right
-    names, the largest rise was 0.58 of its bar (1078005 ``joint_friction``, 2.9 -> 4.1, rise 2.9
-    against 5.0); 1078109 (``joint_friction``) takes a window from 20.0 to 21.4, a rise of 7.6
-    against 16.7, which a bar on z itself (21.4 > 20.0 and the threshold) would have dropped.
-    Not asked on the selection windows: there right names raise windows (1078034
-    ``point_attractor`` 4.8 -> 150.9), since the selection windows chose the model among the
-    candidates' fits, and a fit trades windows against each other.
-
-    Why twice the bar: with a bar of 1 (session 24), the untouched seed 1967 lost two right names,
-    1967005 ``joint_friction`` (a double pendulum's test window 6.0 -> 8.5, a rise of 5.9 against
-    a replicate z of 5.7: 1.04 bars) and 1967085 ``mass[box]`` (beside a wrong
-    ``constant_acceleration``, 1.4 bars), and saved one misname, gust 1967147 (named
-    ``constant_acceleration``, 5.5 bars). The one replicate's z in a chaotic window is a
-    noisy bar, and a right fit that mistimes one collision of a chaotic test episode rises a
-    window by about it. The misnames on the development seeds rose 2.6 and 2.7 bars (1078143,
-    4593142). Chosen on seeds 1078, 6685 and 1967 (docs/gap-findings.md, session 25). ``ver``: the model's test
-    verification if at hand (its per-window z), so that the test windows are not simulated again.
-
-    Why the model's own replicates (session 34): the clean replicate runs the nominal motion, which
-    a right model changes. Development case 6774127 (a true ``restitution`` of 0.833, fitted 0.834)
-    takes a test window from z 56.9 to 60.8, and the truth itself leaves it at 60.6: at the lower
-    restitution the ball meets the box in a way that amplifies the start fit's millimetre into
-    decimetres, a collision the nominal replicate (z 1.4) never meets. Its rise (21.4) passed twice
-    the clean bar (14.0) and the right name was dropped (``unexplained``). Replicates of the model
-    itself, window-local as the departure test's (each from the data's fitted start, perturbed by a
-    draw of that fit's error), meet the same collision in half of ten draws: their median z there
-    is 24.4, which excuses the rise. A library effect fitted to physics outside the library is not excused this
-    way unless its own motion is chaotic in that window too.
-    """
-    pairs = heldout_pairs(p, model, config)[0]
-    if not pairs:
-        return []
-    ver = ver if ver is not None and ver.z_before else verify_on_test(p, model, config, z_thr)[0]  # the model's own
-    zb, za = np.asarray(ver.z_before), np.asarray(ver.z_after)  # (W,) each
-    null = Shooter(p.scene, null_episodes, p.substep, p.half)
-    zn = window_z(null, [w for w, _ in pairs], p.sigma).max(axis=(1, 2))  # (W,) the data's windows on the replicate
-    rise = np.sqrt(np.maximum(0.0, za ** 2 - zb ** 2))  # (W,)
-    bar = config.deepen_factor * np.maximum(zn, z_thr)  # (W,)
-    out = []
-    rng = np.random.default_rng(seed)
-    for i in np.flatnonzero(rise > bar):  # the model's own replicates, only where the clean one does not excuse it
-        w, params = pairs[i]
-        zm = float(np.median(local_replicates(p.shooter, [w], p.sigma, p.phi, rng, config.deepen_replicates,
-                                              p.jitter, model.effect, params))) if config.deepen_replicates else 0.0
-        if rise[i] > config.deepen_factor * max(zm, zn[i], z_thr):
-            out.append((float(zb[i]), float(za[i]), float(zn[i]), zm))
-    return out
 
 
 def short_of_nominal(model: FitResult, nominal_sse: np.ndarray, threshold: float, lower_q: float | None) -> str | None:

@@ -147,7 +147,7 @@ def local_replicates(shooter: Shooter, windows: list[Window], sigma: np.ndarray,
                      effect: Effect | None = None, params: np.ndarray | None = None) -> np.ndarray:
     """(n, W) largest window z of ``n`` window-local clean replicates of the data's ``windows``;
     with ``effect`` and ``params``, replicates of that model instead of the nominal one (its motion,
-    and its own window z on them: ``voe.gap.check.deepened``).
+    and its own window z on them: ``voe.gap.carry_over.deepened``).
 
     Each window is cut out together with the samples its centred start fit reaches back to (from
     ``lo``), so its z is computed as the location's is. A replicate of it starts at ``lo`` from the

@@ -16,7 +16,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from voe.gap.check import Checked, check_step, effect_dicts, short_on_test, worse_on_test
+from voe.gap.carry_over import short_on_test, worse_on_test
+from voe.gap.check import Checked, check_step, effect_dicts
 from voe.gap.departure import ALPHA
 from voe.gap.drift import DriftAhead, drift_step
 from voe.gap.effects import EFFECTS

@@ -48,13 +48,13 @@ class GapConfig:
     cross_fit: bool = False  # halves swap fitting and selection (voe.gap.split); twice the fitting work
     cross_fit_budget: float = 50.0  # selection seconds over both folds when cross-fitted: every window of 10 episodes of 3 s
     second_look: bool = True  # a three-way split that names nothing is looked at again, cross-fitted (voe.gap.finder)
-    second_look_test_gain: float = 0.05  # the second look's name must lower the test RMSE by this fraction (check.short_on_test)
+    second_look_test_gain: float = 0.05  # the second look's name must lower the test RMSE by this fraction (carry_over.short_on_test)
     min_gain: float = 0.05  # practical floor: a selection gain below 5 % is never accepted
     null_alpha: float = 0.05  # the threshold is the null's best gain at this upper quantile
     gain_lower_q: float | None = 0.05  # the gain's bootstrap quantile over selection windows must be > 0
     z_min: float = 5.0
     deepen_factor: float = 2.0  # a test window's rise must pass this many times max(replicate z, threshold)
-    deepen_replicates: int = 10  # the model's own window-local replicates of such a window (0: none; voe.gap.check.deepened)
+    deepen_replicates: int = 10  # the model's own window-local replicates of such a window (0: none; voe.gap.carry_over.deepened)
     fit: FitConfig = FitConfig()
 
 

@@ -35,7 +35,7 @@ class Verification:
     flagged_before: float
     flagged_after: float
     looks_like_noise: bool
-    z_before: tuple[float, ...] = ()  # (W,) each window's z without the model (``voe.gap.check.deepened``)
+    z_before: tuple[float, ...] = ()  # (W,) each window's z without the model (``voe.gap.carry_over.deepened``)
     z_after: tuple[float, ...] = ()  # (W,) and with it
 
 

@@ -1,4 +1,4 @@
-"""Session 35: the second look's test-gain bar (``voe.gap.check.short_on_test``) on a stored run.
+"""Session 35: the second look's test-gain bar (``voe.gap.carry_over.short_on_test``) on a stored run.
 
 The bar is a filter after the second look, so it can change only a case where the second look
 named something with a test-split RMSE reduction under ``GapConfig.second_look_test_gain``. This

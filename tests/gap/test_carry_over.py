@@ -1,13 +1,13 @@
 """The final model must not leave the typical test window departing more than the nominal model
-does (``voe.gap.check.worse_on_test``), and the second look's must lower the test-split RMSE by a
-practical margin (``voe.gap.check.short_on_test``)."""
+does (``voe.gap.carry_over.worse_on_test``), and the second look's must lower the test-split RMSE by a
+practical margin (``voe.gap.carry_over.short_on_test``)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-import voe.gap.check as check
+import voe.gap.carry_over as carry
 from voe.gap.effects import EFFECTS
 from voe.gap.effects.base import EffectSum
 from voe.gap.fit import FitResult
@@ -18,24 +18,24 @@ RR = EffectSum((EFFECTS.get("rolling_resistance")(),))
 
 
 def _checked(median_before: float, median_after: float, rmse: tuple[float, float] = (0.088, 0.070),
-             c: float = 0.048) -> check.Checked:
+             c: float = 0.048) -> carry.Checked:
     ver = Verification(*rmse, 0.0, 0.0, 0.0, 0.0, median_before, median_after, 1.0, 0.67, False)
     model = FitResult(RR, np.array([c]), 0, 0, np.ones(3))
-    return check.Checked(model, ("rolling_resistance",), np.array([0.02]), np.array([0.05]), (), ver, "test",
+    return carry.Checked(model, ("rolling_resistance",), np.array([0.02]), np.array([0.05]), (), ver, "test",
                          np.zeros(1))
 
 
 def test_a_model_that_leaves_the_median_test_window_departing_more_is_not_reported(monkeypatch):
     nominal = Verification(0.088, 0.088, 0.0, 0.0, 0.0, 0.0, 18.6, 18.6, 1.0, 1.0, False)
-    monkeypatch.setattr(check, "verify_on_test", lambda p, model, config, z: (nominal, "test"))
+    monkeypatch.setattr(carry, "verify_on_test", lambda p, model, config, z: (nominal, "test"))
     # development case 6685149 (a gust named ``rolling_resistance``): median window z 18.6 -> 24.4, threshold 5.0
-    out = check.worse_on_test(_checked(18.6, 24.4), None, None, 5.0)
+    out = carry.worse_on_test(_checked(18.6, 24.4), None, None, 5.0)
     assert out.model is None and out.keys == () and out.verification is nominal
     assert "does not carry over" in out.dropped[0]["reason"]
     c = _checked(18.6, 9.5)  # better than nominal: kept
-    assert check.worse_on_test(c, None, None, 5.0) is c
+    assert carry.worse_on_test(c, None, None, 5.0) is c
     c = _checked(1.2, 1.4)  # worse, but the typical window does not depart: kept
-    assert check.worse_on_test(c, None, None, 5.0) is c
+    assert carry.worse_on_test(c, None, None, 5.0) is c
 
 
 def _clean_problem(seed: int = 1078150):
@@ -57,17 +57,17 @@ def test_a_model_that_makes_a_test_window_depart_beyond_nominal_and_replicate_is
     p, cfg, null_eps = _clean_problem()
     drag = EffectSum((EFFECTS.get("linear_drag")(),))
     wrong = FitResult(drag, np.array([2.0]), 0, 0, np.ones(3))
-    deep = check.deepened(p, wrong, cfg, 5.0, null_eps)
+    deep = carry.deepened(p, wrong, cfg, 5.0, null_eps)
     assert deep and all(a * a - b * b > (cfg.deepen_factor * max(n, 5.0)) ** 2 for b, a, n, _ in deep)
-    assert check.deepened(p, FitResult(drag, np.array([0.0]), 0, 0, np.ones(3)), cfg, 5.0, null_eps) == []
-    c = check.Checked(wrong, ("linear_drag",), np.array([1.9]), np.array([2.1]), (),
-                      check.verify_on_test(p, wrong, cfg, 5.0)[0], "test", np.zeros(1))
+    assert carry.deepened(p, FitResult(drag, np.array([0.0]), 0, 0, np.ones(3)), cfg, 5.0, null_eps) == []
+    c = carry.Checked(wrong, ("linear_drag",), np.array([1.9]), np.array([2.1]), (),
+                      carry.verify_on_test(p, wrong, cfg, 5.0)[0], "test", np.zeros(1))
     if c.verification.median_z_after > max(c.verification.median_z_before, 5.0):  # the median rule fires first
-        c = check.Checked(wrong, c.keys, c.lower, c.upper, (), Verification(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 2.0, 2.0,
+        c = carry.Checked(wrong, c.keys, c.lower, c.upper, (), Verification(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 2.0, 2.0,
                           0.0, 0.0, True), "test", np.zeros(1))
-    out = check.worse_on_test(c, p, cfg, 5.0, null_eps)
+    out = carry.worse_on_test(c, p, cfg, 5.0, null_eps)
     assert out.model is None and "itself a departure" in out.dropped[0]["reason"]
-    assert check.worse_on_test(c, p, cfg, 5.0) is c  # without the replicate only the median rule is asked
+    assert carry.worse_on_test(c, p, cfg, 5.0) is c  # without the replicate only the median rule is asked
 
 
 def test_a_rise_short_of_twice_the_bar_is_kept():
@@ -79,8 +79,8 @@ def test_a_rise_short_of_twice_the_bar_is_kept():
 
     p, cfg, null_eps = _clean_problem()
     slight = FitResult(EffectSum((EFFECTS.get("linear_drag")(),)), np.array([0.015]), 0, 0, np.ones(3))
-    assert check.deepened(p, slight, cfg, 5.0, null_eps) == []
-    assert check.deepened(p, slight, dataclasses.replace(cfg, deepen_factor=1.0), 5.0, null_eps)
+    assert carry.deepened(p, slight, cfg, 5.0, null_eps) == []
+    assert carry.deepened(p, slight, dataclasses.replace(cfg, deepen_factor=1.0), 5.0, null_eps)
 
 
 def test_a_right_model_is_not_blamed_for_a_window_that_its_own_motion_makes_chaotic():
@@ -104,9 +104,9 @@ def test_a_right_model_is_not_blamed_for_a_window_that_its_own_motion_makes_chao
     null_eps, finish = locate_parts(p, cfg, np.random.default_rng(seed))
     z_thr = finish().z_threshold
     right = FitResult(EffectSum((p.candidates["restitution"],)), np.array([0.8344]), 0, 0, np.ones(3))
-    without = check.deepened(p, right, dataclasses.replace(cfg, deepen_replicates=0), z_thr, null_eps)
+    without = carry.deepened(p, right, dataclasses.replace(cfg, deepen_replicates=0), z_thr, null_eps)
     assert [round(b) for b, a, n, m in without] == [57] and without[0][3] == 0.0  # the clean bar alone drops it
-    assert check.deepened(p, right, cfg, z_thr, null_eps, seed=seed) == []
+    assert carry.deepened(p, right, cfg, z_thr, null_eps, seed=seed) == []
 
 
 @pytest.mark.slow
@@ -126,15 +126,15 @@ def test_a_floor_patch_fitted_as_a_mass_is_not_reported():
 
 def test_a_second_look_name_that_barely_lowers_the_test_rmse_is_not_reported(monkeypatch):
     nominal = Verification(0.00232, 0.00232, 0.0, 0.0, 0.0, 0.0, 2.0, 2.0, 0.1, 0.1, True)
-    monkeypatch.setattr(check, "verify_on_test", lambda p, model, config, z: (nominal, "test"))
+    monkeypatch.setattr(carry, "verify_on_test", lambda p, model, config, z: (nominal, "test"))
     # development case 6774226 (clean, coloured noise): the second look named rolling_resistance 0.0032,
     # test RMSE 2.32 -> 2.27 mm
-    out = check.short_on_test(_checked(2.0, 2.0, (0.00232, 0.002274), 0.0032), None, GapConfig(), 5.0)
+    out = carry.short_on_test(_checked(2.0, 2.0, (0.00232, 0.002274), 0.0032), None, GapConfig(), 5.0)
     assert out.model is None and out.keys == () and out.verification is nominal
     assert out.dropped[0]["effect"] == "rolling_resistance" and "2.0 %" in out.dropped[0]["reason"]
     c = _checked(2.0, 2.0, (0.0105, 0.00882))  # a right name's 16.0 % (6774016): kept
-    assert check.short_on_test(c, None, GapConfig(), 5.0) is c
+    assert carry.short_on_test(c, None, GapConfig(), 5.0) is c
     c = _checked(2.0, 2.0, (0.00232, 0.002274))  # the bar is a setting: 0 keeps every name
-    assert check.short_on_test(c, None, GapConfig(second_look_test_gain=0.0), 5.0) is c
-    c = check.Checked(None, (), np.zeros(0), np.zeros(0), (), nominal, "test", np.zeros(0))
-    assert check.short_on_test(c, None, GapConfig(), 5.0) is c  # nothing named: nothing to drop
+    assert carry.short_on_test(c, None, GapConfig(second_look_test_gain=0.0), 5.0) is c
+    c = carry.Checked(None, (), np.zeros(0), np.zeros(0), (), nominal, "test", np.zeros(0))
+    assert carry.short_on_test(c, None, GapConfig(), 5.0) is c  # nothing named: nothing to drop
