@@ -1,6 +1,6 @@
 """Session 35: does ``worse_on_test``'s median rule blame a right model for a chaotic scene?
 Development case 4261054 (true constant_acceleration (0.552, 0.544), expressed 20/20): the first
-look fitted (0.5265, 0.5417) with a selection gain of 92.7 % and dropped it: "on the test episodes
+look dropped it; the second fitted (0.5265, 0.5417) with a selection gain of 92.7 % and dropped it: "on the test episodes
 the median window z rises from 49.2 to 73.5, above the located threshold z = 41.6". Here: the test
 windows' z under the nominal model, the fit and the truth, and 40 window-local replicates of each model.
 Usage: PYTHONPATH=<checkout> python median_rule.py [SEED TRUTH PARAMS...]"""
