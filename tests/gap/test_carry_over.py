@@ -25,12 +25,11 @@ def _checked(median_before: float, median_after: float, rmse: tuple[float, float
                          np.zeros(1))
 
 
-def test_a_model_that_leaves_the_median_test_window_departing_more_is_not_reported(monkeypatch):
+def test_a_model_that_leaves_the_median_test_window_departing_more_is_not_reported():
     nominal = Verification(0.088, 0.088, 0.0, 0.0, 0.0, 0.0, 18.6, 18.6, 1.0, 1.0, False)
-    monkeypatch.setattr(carry, "verify_on_test", lambda p, model, config, z: (nominal, "test"))
     # development case 6685149 (a gust named ``rolling_resistance``): median window z 18.6 -> 24.4, threshold 5.0
     out = carry.worse_on_test(_checked(18.6, 24.4), None, None, 5.0)
-    assert out.model is None and out.keys == () and out.verification is nominal
+    assert out.model is None and out.keys == () and out.verification == nominal and out.test_note == "test"
     assert "does not carry over" in out.dropped[0]["reason"]
     c = _checked(18.6, 9.5)  # better than nominal: kept
     assert carry.worse_on_test(c, None, None, 5.0) is c
@@ -124,13 +123,12 @@ def test_a_floor_patch_fitted_as_a_mass_is_not_reported():
     assert any("itself a departure" in d["reason"] for d in f.checked_.dropped)
 
 
-def test_a_second_look_name_that_barely_lowers_the_test_rmse_is_not_reported(monkeypatch):
-    nominal = Verification(0.00232, 0.00232, 0.0, 0.0, 0.0, 0.0, 2.0, 2.0, 0.1, 0.1, True)
-    monkeypatch.setattr(carry, "verify_on_test", lambda p, model, config, z: (nominal, "test"))
+def test_a_second_look_name_that_barely_lowers_the_test_rmse_is_not_reported():
+    nominal = Verification(0.00232, 0.00232, 0.0, 0.0, 0.0, 0.0, 2.0, 2.0, 1.0, 1.0, False)
     # development case 6774226 (clean, coloured noise): the second look named rolling_resistance 0.0032,
     # test RMSE 2.32 -> 2.27 mm
     out = carry.short_on_test(_checked(2.0, 2.0, (0.00232, 0.002274), 0.0032), None, GapConfig(), 5.0)
-    assert out.model is None and out.keys == () and out.verification is nominal
+    assert out.model is None and out.keys == () and out.verification == nominal
     assert out.dropped[0]["effect"] == "rolling_resistance" and "2.0 %" in out.dropped[0]["reason"]
     c = _checked(2.0, 2.0, (0.0105, 0.00882))  # a right name's 16.0 % (6774016): kept
     assert carry.short_on_test(c, None, GapConfig(), 5.0) is c
@@ -138,3 +136,22 @@ def test_a_second_look_name_that_barely_lowers_the_test_rmse_is_not_reported(mon
     assert carry.short_on_test(c, None, GapConfig(second_look_test_gain=0.0), 5.0) is c
     c = carry.Checked(None, (), np.zeros(0), np.zeros(0), (), nominal, "test", np.zeros(0))
     assert carry.short_on_test(c, None, GapConfig(), 5.0) is c  # nothing named: nothing to drop
+
+
+def test_a_dropped_model_reports_the_nominal_figures_of_its_own_test_windows():
+    """``drop_all`` takes the nominal model's figures from the *before* side of the model's own
+    verification instead of simulating the test windows again; they must be what simulating gives."""
+    from voe.gap.stages import prepare
+
+    from .conftest import flight_episodes
+
+    scene, eps = flight_episodes("linear_drag", [0.4], n=6, duration=2.0, seed=6)
+    config = GapConfig()
+    p = prepare(scene, eps, ("linear_drag",), config)
+    model = FitResult(p.candidates["linear_drag"], np.array([0.3]), 0.0, 0.0, np.zeros(0))
+    ver, note = carry.verify_on_test(p, model, config, 5.0)
+    assert ver.rmse_after < ver.rmse_before  # the model changes the figures: the test can tell the sides apart
+    c = carry.Checked(model, ("linear_drag",), np.array([0.2]), np.array([0.4]), (), ver, note, np.zeros(1))
+    out = carry.drop_all(c, "a reason")
+    assert out.verification == carry.verify_on_test(p, None, config, 5.0)[0] and out.test_note == note
+    assert out.dropped == ({"effect": "linear_drag", "reason": "a reason"},)

@@ -61,7 +61,7 @@ def worse_on_test(c: Checked, p: Problem, config: GapConfig, z_thr: float,
             f"a window from z {b:.1f} to {a:.1f} (a rise of {np.sqrt(a * a - b * b):.1f}; clean replicate {n:.1f}, "
             f"the model's own replicates {m:.1f})" for b, a, n, m in deep)
             + f", located threshold z = {z_thr:.1f}: it does not carry over")
-    return drop_all(c, p, config, z_thr, why)
+    return drop_all(c, why)
 
 
 def short_on_test(c: Checked, p: Problem, config: GapConfig, z_thr: float) -> Checked:
@@ -93,14 +93,14 @@ def short_on_test(c: Checked, p: Problem, config: GapConfig, z_thr: float) -> Ch
     why = (f"the second look's name lowers the test RMSE by only {100 * gain:.1f} % ({v.rmse_before:.4g} -> "
            f"{v.rmse_after:.4g} m), below {100 * config.second_look_test_gain:g} %: not a practical gain on "
            "episodes it has not seen")
-    return drop_all(c, p, config, z_thr, why)
+    return drop_all(c, why)
 
 
-def drop_all(c: Checked, p: Problem, config: GapConfig, z_thr: float, why: str) -> Checked:
-    """``c`` with every effect dropped for ``why`` and the nominal model's test figures."""
-    ver, note = verify_on_test(p, None, config, z_thr)
+def drop_all(c: Checked, why: str) -> Checked:
+    """``c`` with every effect dropped for ``why`` and the nominal model's test figures (the *before*
+    figures of ``c``'s own, taken on the same test windows: ``Verification.nominal``)."""
     return Checked(None, (), np.zeros(0), np.zeros(0), c.dropped + tuple({"effect": k, "reason": why} for k in c.keys),
-                   ver, note, np.zeros(0))
+                   c.verification.nominal(), c.test_note, np.zeros(0))
 
 
 def deepened(p: Problem, model: FitResult, config: GapConfig, z_thr: float, null_episodes: list[Episode],

@@ -38,6 +38,18 @@ class Verification:
     z_before: tuple[float, ...] = ()  # (W,) each window's z without the model (``voe.gap.carry_over.deepened``)
     z_after: tuple[float, ...] = ()  # (W,) and with it
 
+    def nominal(self) -> Verification:
+        """The nominal model's figures on the same windows: every *after* figure is its *before*.
+
+        Why: a model dropped after its test figures were taken (``voe.gap.carry_over.drop_all``)
+        reports the nominal model's, which ``verify`` already simulated as the *before* figures;
+        simulating the test windows again would give the same numbers.
+        """
+        return Verification(self.rmse_before, self.rmse_before, self.position_rmse_before, self.position_rmse_before,
+                            self.window_median_before, self.window_median_before, self.median_z_before,
+                            self.median_z_before, self.flagged_before, self.flagged_before,
+                            bool(self.flagged_before <= 0.1), self.z_before, self.z_before)
+
 
 def verify(shooter: Shooter, pairs: list[tuple[Window, np.ndarray | None]], effect: Effect | None,
            sigma: np.ndarray, z_thr: float) -> Verification:
