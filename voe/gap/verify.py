@@ -20,6 +20,9 @@ if TYPE_CHECKING:  # an annotation only: no import of the search machinery at ru
     from voe.gap.search import TieBreak
 
 
+NOISE_SHARE = 0.1  # what is left looks like noise when at most this share of windows departs
+
+
 @dataclass(frozen=True)
 class Verification:
     """Held-out numbers before/after. RMSE in metres; ``flagged_*`` are window fractions."""
@@ -48,7 +51,7 @@ class Verification:
         return Verification(self.rmse_before, self.rmse_before, self.position_rmse_before, self.position_rmse_before,
                             self.window_median_before, self.window_median_before, self.median_z_before,
                             self.median_z_before, self.flagged_before, self.flagged_before,
-                            bool(self.flagged_before <= 0.1), self.z_before, self.z_before)
+                            bool(self.flagged_before <= NOISE_SHARE), self.z_before, self.z_before)
 
 
 def verify(shooter: Shooter, pairs: list[tuple[Window, np.ndarray | None]], effect: Effect | None,
@@ -66,7 +69,7 @@ def verify(shooter: Shooter, pairs: list[tuple[Window, np.ndarray | None]], effe
     return Verification(rmse(before), rmse(after), position_rmse(before), position_rmse(after),
                         window_score(before), window_score(after),
                         float(np.median(zb)), float(np.median(za)), float(np.mean(zb > z_thr)), flagged_after,
-                        bool(flagged_after <= 0.1), tuple(map(float, zb)), tuple(map(float, za)))
+                        bool(flagged_after <= NOISE_SHARE), tuple(map(float, zb)), tuple(map(float, za)))
 
 
 def _residuals_at(shooter: Shooter, pairs: list[tuple[Window, np.ndarray | None]], effect: Effect) -> list[np.ndarray]:
