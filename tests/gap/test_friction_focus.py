@@ -50,3 +50,24 @@ def test_a_hinge_part_the_fitting_windows_rule_nominal_out_for_is_established():
     lo, hi = model_intervals(p, p.split.fit, FitResult(eff, np.array([1.3993274364678283]), 0.0, 0.0), ctx, cfg, seed)
     nominal = float(eff.nominal(ctx)[0])
     assert lo[0] > nominal and lo[0] <= 1.3993274364678283 <= hi[0]
+
+
+def test_a_sparse_part_on_a_dense_one_lets_the_dense_one_settle():
+    """Development case 8367135 (``quadratic_drag`` 0.193 and ``friction`` 1.43): ``friction`` on
+    top of round 0's drag, the drag held, fitted 1.35 and gained 39.8 % on the selection windows,
+    below ``friction_region`` (48.0 % at the fit that won, the drag refitted to 0.198), so the
+    patch was named. With the drag settled on the training windows after the friction's fit, the
+    whole-floor friction predicts those windows better than the patch."""
+    from voe.gap.effects.base import EffectSum
+
+    seed = 8367135
+    case = make_case(np.random.default_rng(seed), "quadratic_drag+friction", 1e-3, 12, 3.0, noise_kind="white")
+    cfg = GapConfig()
+    p = prepare(case.scene, case.episodes, GapFinder(max_effects=2, seed=seed, config=cfg).effects, cfg)
+    data = _folded(p, p.shooter, p.episodes, p.bad, cfg, seed)
+    drag = data.fit_candidate(None, EFFECTS.get("quadratic_drag")())
+    res = data.fit_candidate(drag, EFFECTS.get("friction")())
+    assert abs(res.params[0] - 0.193) < abs(drag.params[0] - 0.193)  # the drag moved towards its truth
+    patch = EffectSum((EFFECTS.get("quadratic_drag")(), EFFECTS.get("friction_region")()))
+    won = data.heldout_sse(patch, tuple(np.array([0.1982, 2.2197, -0.7457, 2.8465]) for _ in data.folds))
+    assert window_gain(drag.window_sse, res.window_sse) > window_gain(drag.window_sse, won)
