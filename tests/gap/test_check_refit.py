@@ -98,3 +98,28 @@ def test_a_sparse_part_whose_interval_holds_its_nominal_value_is_asked_directly(
     monkeypatch.setattr(check, "intervals", lambda *a: (np.array([-0.01]), np.array([0.05])))
     drag = FitResult(EffectSum((EFFECTS.get("linear_drag")(),)), np.array([0.02]), 0, 0, MODEL_SSE)
     assert check.model_intervals(p, (0, 1), drag, None, GapConfig(), 0)[1][0] == 0.05 and asked == [0]
+
+
+def test_a_sparse_part_left_alone_by_a_drop_is_refitted_on_its_own_windows(monkeypatch):
+    # development cases 8367085 and 8367133: the search's model ends with a dense part, so the
+    # check refits on the training windows; once that part is dropped as not established, the
+    # mass left alone goes back to the windows it was fitted on in its round
+    def holds_zero(p, fit_ids, model, ctx, config, seed):
+        ends = {"rolling_resistance": (0.0, 0.1), "mass": (0.3, 0.6)}
+        lo, hi = zip(*(ends[e.name] for e in model.effect.parts), strict=True)
+        return np.array(lo), np.array(hi)
+
+    fitter = _Fitter(True)
+    monkeypatch.setattr(check, "fit_context", lambda p, ids=None: None)
+    model = FitResult(EffectSum((MASS, RR)), np.array([0.457, 0.063]), 0, 0, MODEL_SSE)
+    monkeypatch.setattr(check, "model_intervals", holds_zero)
+    monkeypatch.setattr(check, "verify_on_test", lambda p, model, config, z: (None, "test"))
+    keys = ("mass[ball]", "rolling_resistance")
+    rounds = tuple(Round(0.01, {}, {}, {}, 0.05, k, (k,)) for k in keys)
+    s = SimpleNamespace(result=SearchResult(model, rounds, keys, np.ones(9)), fitter=fitter)
+    c = check.check_step(SimpleNamespace(split=SimpleNamespace(fit=(0, 1))), SimpleNamespace(z_threshold=5.0),
+                         s, GapConfig(), 0)
+    assert [d["effect"] for d in c.dropped] == ["rolling_resistance"] and c.keys == ("mass[ball]",)
+    assert fitter.calls == [("mass",)]  # the search's own fitter, which focuses the mass
+    assert fitter.plain.calls == [("rolling_resistance",), ("mass",)]  # only the earn-its-place refits, each part
+    # without the other, on the training windows as before
