@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import multiprocessing as mp
 import os
+import resource
 from dataclasses import replace
 
 import numpy as np
@@ -28,6 +29,26 @@ def test_ahead_runs_in_another_process_and_raises_its_errors():
         assert not a.forked and a.result() == os.getpid()
     with Ahead(lambda: 1 / 0, 2) as a, pytest.raises(ZeroDivisionError):
         a.result()
+
+
+def _user_cpu(n: int) -> float:
+    x = 0
+    for i in range(n):
+        x += i
+    return resource.getrusage(resource.RUSAGE_SELF).ru_utime
+
+
+@pytest.mark.parametrize("idle", [False, True])
+def test_an_ahead_process_cpu_is_counted_among_the_callers_children(idle):
+    """``bench/gap_speed.py`` reports the finder's CPU as its own plus ``RUSAGE_CHILDREN``: that
+    holds only if an ``Ahead`` process is reaped by the time its result is read (a thread, or a
+    process left running, would drop its CPU from the line; session 31 suspected this, unmeasured)."""
+    k0 = resource.getrusage(resource.RUSAGE_CHILDREN).ru_utime
+    with Ahead(lambda: _user_cpu(3_000_000), 2, idle=idle) as a:
+        assert a.forked
+        spent = a.result()  # the forked process's own user CPU when it finished
+    counted = resource.getrusage(resource.RUSAGE_CHILDREN).ru_utime - k0
+    assert spent > 0.05 and counted >= 0.9 * spent
 
 
 def test_drift_ahead_gives_the_serial_answer_only_for_the_same_model():
