@@ -42,7 +42,7 @@ def _user_cpu(n: int) -> float:
 def test_an_ahead_process_cpu_is_counted_among_the_callers_children(idle):
     """``bench/gap_speed.py`` reports the finder's CPU as its own plus ``RUSAGE_CHILDREN``: that
     holds only if an ``Ahead`` process is reaped by the time its result is read (a thread, or a
-    process left running, would drop its CPU from the line; session 31 suspected this, unmeasured)."""
+    process left running, would drop its CPU from the line; session 28 suspected this, unmeasured)."""
     k0 = resource.getrusage(resource.RUSAGE_CHILDREN).ru_utime
     with Ahead(lambda: _user_cpu(3_000_000), 2, idle=idle) as a:
         assert a.forked
