@@ -9,7 +9,7 @@ It refuses to do anything before all planned cases are stored. Then it
 2. writes docs/bench-runs/gap_bench_sN_seed6219.txt (header, every case line in plan order, the summary)
    and .jsonl (the store's header and the last stored line of each case, in plan order);
 3. git-mv's the in-progress folder's README to gap_bench_sN_seed6219_log.md and removes the folder;
-4. replaces the README's "Latest untouched run" block by this run's (session 36's block moves to the end of
+4. replaces docs/gap.md's "Latest untouched run" block by this run's (session 36's block moves to the end of
    docs/bench-runs/README.md, links rewritten) and adds its row to the table.
 The "Not met / Met" paragraph is left as NOTMET_PLACEHOLDER, to be written by hand from the case lines.
 """
@@ -85,8 +85,25 @@ def main() -> None:
     git = ["git", "-C", str(a.main)]
     subprocess.run([*git, "mv", str(folder / "README.md"), str(runs / f"{stem}_log.md")], check=True)
     subprocess.run([*git, "rm", "-rq", str(folder)], check=True)
+    log = runs / f"{stem}_log.md"  # its links to the folder's scripts and patch, gone with the folder, become names
+    log.write_text(re.sub(r"\[([^\]]+)\]\(([^)\s:#]+)\)",
+                          lambda m: m.group(0) if (log.parent / m.group(2)).exists() else f"`{m.group(1)}`",
+                          log.read_text()))
     readme(a.main, n, summary)
-    print(f"finish: wrote {stem}.txt/.jsonl/_log.md and the README block; fill NOTMET_PLACEHOLDER by hand")
+    print(f"finish: wrote {stem}.txt/.jsonl/_log.md and the docs/gap.md block; fill NOTMET_PLACEHOLDER by hand")
+
+
+LINK = re.compile(r"\]\(([^)\s]+)\)")
+
+
+def from_bench_runs(m: re.Match) -> str:
+    """A link written in docs/gap.md, rewritten to work from docs/bench-runs/README.md."""
+    t = m.group(1)
+    if re.match(r"[a-z]+:", t) or t.startswith("#"):
+        return m.group(0)
+    if t.startswith("bench-runs/"):
+        return f"]({t[len('bench-runs/'):]})"
+    return f"](../{t})"
 
 
 def pick(summary: list[str], prefix: str) -> str:
@@ -97,8 +114,8 @@ def pick(summary: list[str], prefix: str) -> str:
 
 
 def readme(main: Path, n: int, summary: list[str]) -> None:
-    """Swap the README's latest-run block for this run's and add its table row."""
-    path = main / "README.md"
+    """Swap docs/gap.md's latest-run block for this run's and add its table row (links relative to docs/)."""
+    path = main / "docs/gap.md"
     text = path.read_text()
     start = text.index("**Latest untouched run of the default finder (sessions 34-36, seed 8367)")
     cut = text.index("Seed 8367 is development from session 36 on.", start) + len("Seed 8367 is development from session 36 on.")
@@ -120,10 +137,10 @@ def readme(main: Path, n: int, summary: list[str]) -> None:
         "source changed on main while it ran. Chosen on the development seeds 0-99, 5151, 6263, 7741, 3629, 1531,\n"
         "8586, 7857, 8587, 5250, 4593, 2758, 4446, 9028, 6157, 6685, 1078, 1967, 2250, 2307, 6774 and 8367.\n"
         "Every case line, the summary and the store:\n"
-        f"[docs/bench-runs/gap_bench_s{n}_seed{SEED}.txt](docs/bench-runs/gap_bench_s{n}_seed{SEED}.txt),\n"
-        f"[docs/bench-runs/gap_bench_s{n}_seed{SEED}.jsonl](docs/bench-runs/gap_bench_s{n}_seed{SEED}.jsonl); its log of\n"
+        f"[docs/bench-runs/gap_bench_s{n}_seed{SEED}.txt](bench-runs/gap_bench_s{n}_seed{SEED}.txt),\n"
+        f"[docs/bench-runs/gap_bench_s{n}_seed{SEED}.jsonl](bench-runs/gap_bench_s{n}_seed{SEED}.jsonl); its log of\n"
         "starts and stops (and a slip: two stored case lines seen in session 39 before the end):\n"
-        f"[docs/bench-runs/gap_bench_s{n}_seed{SEED}_log.md](docs/bench-runs/gap_bench_s{n}_seed{SEED}_log.md).\n\n"
+        f"[docs/bench-runs/gap_bench_s{n}_seed{SEED}_log.md](bench-runs/gap_bench_s{n}_seed{SEED}_log.md).\n\n"
         "```\n" + "\n".join(body) + "\n```\n\n"
         + s38 + "\n\nNOTMET_PLACEHOLDER\n\n")
     assert "Log of starts and stops" in log
@@ -152,11 +169,10 @@ def readme(main: Path, n: int, summary: list[str]) -> None:
     path.write_text(text)
     # session 36's block to docs/bench-runs/README.md, links rewritten to work from that folder
     runs_readme = main / "docs/bench-runs/README.md"
-    moved = re.sub(r"\]\(docs/bench-runs/([^)]*)\)", r"](\1)", old36)
-    moved = re.sub(r"\]\(docs/([^)]*)\)", r"](../\1)", moved)
+    moved = LINK.sub(from_bench_runs, old36)
     rt = runs_readme.read_text()
     rt = rt.replace("# Untouched gap bench runs, sessions 11-32", "# Untouched gap bench runs, sessions 11-36", 1)
-    rt = (rt.rstrip("\n") + f"\n\nSession 36's block, moved here from the README in session {n} (verbatim but for links), "
+    rt = (rt.rstrip("\n") + f"\n\nSession 36's block, moved here from docs/gap.md in session {n} (verbatim but for links), "
           f"when seed {SEED}'s run took its place:\n\n" + moved + "\n")
     runs_readme.write_text(rt)
 
