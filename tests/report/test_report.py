@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import re
 import shutil
 import subprocess
@@ -159,3 +160,33 @@ def test_missing_probe_set_only_drops_filmstrips(fake_runs, tmp_path):
     build_report([run], tmp_path / "rep", n_boot=200)
     assert not list((tmp_path / "rep" / "figures").glob("filmstrip_*"))
     assert "example frames are not shown" in (tmp_path / "rep" / "report.md").read_text()
+
+
+def test_a_checkpoint_stopped_by_its_time_cap_is_named_in_the_report(synth_probes, tmp_path):
+    """A model whose training hit the wall-time cap is named under Models, from the run's record alone.
+
+    Why: a demo on a loaded machine stopped `interaction` at 638 of 700 steps and its report said
+    nothing. `voe score` copies the checkpoint's training record into run.json; the report shows it
+    for every model and warns for the capped ones (and only for them).
+    """
+    from voe.models.checkpoint import save_checkpoint, training_record
+
+    capped = save_checkpoint(tmp_path / "capped", {"model": "blind", "config": {}, "seed": 3, "steps": 638,
+                                                   "steps_budget": 700, "time_capped": True, "val_nll": 18.9})
+    full = save_checkpoint(tmp_path / "full", {"model": "blind", "config": {}, "seed": 3, "steps": 700,
+                                               "steps_budget": 700, "time_capped": False, "val_nll": 17.2})
+    assert training_record(tmp_path / "nowhere") is None
+    runs = {}
+    for name, ck in (("capped", capped), ("full", full)):
+        runs[name] = tmp_path / f"run-{name}"
+        score_probe_set(BlindModel(), synth_probes, runs[name], batch_size=5, checkpoint=ck)
+    rec = json.loads((runs["capped"] / "run.json").read_text())["model"]["training"]
+    assert rec == {"steps": 638, "steps_budget": 700, "time_capped": True, "val_nll": 18.9, "seed": 3}
+    (tmp_path / "capped").rename(tmp_path / "gone")  # the report reads the stored record, not the checkpoint
+    build_report([runs["capped"]], tmp_path / "rep-capped", n_boot=200)
+    md = (tmp_path / "rep-capped" / "report.md").read_text()
+    assert "638 of 700 steps (time cap); val NLL 18.90" in md
+    assert "Warning: under-trained model(s)" in md and "after 638 of 700 steps" in md
+    build_report([runs["full"]], tmp_path / "rep-full", n_boot=200)
+    md = (tmp_path / "rep-full" / "report.md").read_text()
+    assert "700 of 700 steps; val NLL 17.20" in md and "under-trained" not in md

@@ -61,6 +61,27 @@ def read_checkpoint(path: Path) -> dict[str, Any]:
     return meta
 
 
+TRAINING_KEYS = ("steps", "steps_budget", "time_capped", "val_nll", "seed", "train_manifest_sha256", "n_calibration")
+
+
+def training_record(path: Path) -> dict[str, Any] | None:
+    """How the checkpoint at ``path`` was trained, for a scoring run to store beside its results.
+
+    Why: a report is built from stored runs only, and a model that ``voe train`` stopped at its
+    wall-time cap (``time_capped``: its weights depend on the machine's speed) must be named there;
+    a demo on a loaded machine once reported a capped ``interaction`` model without saying so.
+
+    Returns:
+        The keys of ``TRAINING_KEYS`` that the checkpoint's config records, or ``None`` when ``path``
+        is not a voe checkpoint directory (a user's own weights file, say).
+    """
+    try:
+        meta = read_checkpoint(Path(path))
+    except CheckpointError:
+        return None
+    return {k: meta[k] for k in TRAINING_KEYS if k in meta}
+
+
 def load_tensors(path: Path) -> dict[str, Any]:
     """Torch tensors from ``weights.safetensors`` (no pickle)."""
     from safetensors import SafetensorError

@@ -21,6 +21,7 @@ from voe.io.paths import show_path
 from voe.report import render as R
 from voe.report.concepts import concept_name, describe
 from voe.report.filmstrip import save_figure
+from voe.report.training import capped_note, training_text
 from voe.scoring.metrics import TIE_RTOL
 from voe.scoring.runs import Run, load_runs
 from voe.scoring.table import concept_table, condition_table
@@ -73,6 +74,7 @@ def _describe_runs(runs: Sequence[Run]) -> pd.DataFrame:
                      "observation": m.get("observation", ""), "surprise": r.surprise_kind,
                      "check": r.meta.get("check", "-"),  # check_model before scoring: passed / skipped
                      "checkpoint sha256": (m.get("checkpoint_sha256") or "-")[:12],
+                     "training": training_text(m.get("training")),
                      "clips": len(r.clips), "wall time (s)": r.meta.get("wall_time_s", ""),
                      "run": r.path.name})
     return pd.DataFrame(rows)
@@ -192,6 +194,7 @@ def _blocks(title, runs, summary, conditions, concepts, looking, films, film_not
                         for c in concepts)),
         R.Heading("Models"),
         R.Table(_describe_runs(runs)),
+        *([R.Para(note)] if (note := capped_note(runs)) else []),
         R.Heading("Which model learned which concept"),
         R.Figure("figures/accuracy_heatmap.png", "accuracy heatmap",
                  "Rows are models, columns concepts. Colour and number: matched-set accuracy (blue = the "

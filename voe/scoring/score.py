@@ -100,6 +100,15 @@ def _merge(sched: Schedule, blinder: Blinder, cache: ScoreCache) -> dict[str, np
     return out
 
 
+def _training(checkpoint: Path | None) -> dict[str, Any] | None:
+    """The checkpoint's training record (steps, time cap, validation NLL), for the report to show."""
+    if checkpoint is None:  # a user's model scored without a checkpoint: nothing to import or record
+        return None
+    from voe.models.checkpoint import training_record
+
+    return training_record(Path(checkpoint))
+
+
 def score_probe_set(model: Any, probes: ProbeSet | str | Path, out: Path, *, model_ref: str | None = None,
                     model_args: dict[str, Any] | None = None, checkpoint: Path | None = None,
                     batch_size: int = 16, seed: int = 0, check: bool = False,
@@ -161,7 +170,7 @@ def score_probe_set(model: Any, probes: ProbeSet | str | Path, out: Path, *, mod
                   "args": dict(model_args or {}), "name": name,
                   "observation": str(getattr(model, "observation", "")),
                   "checkpoint": portable_ref(checkpoint, out) if checkpoint else None, "checkpoint_sha256": ck_sha,
-                  "code_sha256": fields["code_sha256"]},
+                  "code_sha256": fields["code_sha256"], "training": _training(checkpoint)},
         "surprise_kind": kind,
         "probes": {"path": portable_ref(ps.path, out), "manifest_sha256": ps.manifest_sha256,
                    "concepts": list(ps.manifest.get("concepts", []))},
