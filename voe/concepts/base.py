@@ -124,7 +124,7 @@ class Concept(ABC):
     #: ``check_concept`` and, on the stored bytes, by ``voe probes validate``.
     balance: ClassVar[dict[str, str]] = {}
     #: True when no design balances the conditions that carry the verdict: reports mark every verdict
-    #: on this concept confounded (the README says why).
+    #: on this concept confounded (the concept's ``probes/<name>/README.md`` says why).
     confounded: ClassVar[bool] = False
 
     @property

@@ -14,7 +14,7 @@ order of the frames differs (no ``T_k``): fast then slow, or slow then fast, whi
 Occluded variant: a screen, lower than the wall, hides the bounce; visible variant: no screen.
 Both carry the verdict.
 
-Why v6 (README "Why v6"): Energy-v5 reversed a vertical bounce. A ball that loses energy at a
+Why v6 (probes/energy/README.md "Why v6"): Energy-v5 reversed a vertical bounce. A ball that loses energy at a
 bounce falls faster than it rises and its reversal the other way round, so no time reversal of a
 vertical bounce balances the sign of the vertical motion, and random pixel and interaction
 networks read it (0.00-0.10 or 1.00 per draw on dev seeds 4418 and 8111). A horizontal bounce has
@@ -107,7 +107,7 @@ class Energy(Concept):
     balance = {"visible": "F+M+P+V+H+D+X+Y", "occluded": "F+M+P+V+H+D+X+Y"}
     #: Energy-v5's vertical bounce was confounded (random networks read the sign of the vertical
     #: motion). v6 balances ``Y``; whether every knowledge-free control is then at chance is
-    #: measured on dev seeds (README "Controls on v6"): the flag stays until they all are.
+    #: measured on dev seeds (probes/energy/README.md "Controls on v6"): the flag stays until they all are.
     confounded = True
 
     @staticmethod

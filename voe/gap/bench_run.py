@@ -1,6 +1,6 @@
 """The gap bench as a command: run (or resume) the cases, print a line per case and the summary.
 
-Why one place: ``bench/gap_bench.py`` (the form the README's untouched runs quote) and
+Why one place: ``bench/gap_bench.py`` (the form docs/gap.md's untouched runs quote) and
 ``voe gap bench`` (the CLI) used to parse their own options and print their own case lines, and
 the CLI had lost the compound, out-of-library, clean-noise and store options. Both now call
 ``bench_command``, so the two print the same lines for the same arguments.

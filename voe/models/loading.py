@@ -46,7 +46,7 @@ def validate_protocol(model: Any, ref: str) -> Any:
     """Check that ``model`` has ``name``, ``observation`` and ``frame_nll``."""
     missing = [a for a in ("name", "observation", "frame_nll") if not hasattr(model, a)]
     if missing:
-        raise ModelContractError(f"model '{ref}' lacks {', '.join(missing)} (see the model protocol in the README)")
+        raise ModelContractError(f"model '{ref}' lacks {', '.join(missing)} (see the model protocol in docs/models.md)")
     if model.observation not in ("frames", "states"):
         raise ModelContractError(f"model '{ref}': observation must be 'frames' or 'states', got {model.observation!r}")
     return model

@@ -1,7 +1,7 @@
 """Training scenes whose main event happens behind a screen: free flight, a bounce off a wall,
 a collision.
 
-Why (measured, README "Why the trained v3 does not learn gravity, solidity and collision", dev
+Why (measured, docs/models-findings.md "Why the trained v3 does not learn gravity, solidity and collision", dev
 seed 4077): in the ordinary training world only 2.3 % of visible object-frames are rising and a
 hidden stretch occurs about 0.3 times per clip, so a learned rollout never sees an object turn
 round, hit a wall or another object while it is hidden. The trained network then carries a hidden

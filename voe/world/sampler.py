@@ -22,7 +22,7 @@ from voe.world.hidden import CEILING, hidden_event  # main events stay below the
 MOTIONS = {"slide": 0.3, "drop": 0.2, "throw": 0.2, "shelf": 0.1, "ramp": 0.1, "rest": 0.1}
 #: Probability, when hidden events are asked for, that a scene's first main object(s) take part
 #: in an event behind a screen (``voe.world.hidden``): free flight, a bounce off a wall, a collision.
-#: Off by default: measured on dev seeds 4077 and 5309 it did not help ``interaction-v3`` (README).
+#: Off by default: measured on dev seeds 4077 and 5309 it did not help ``interaction-v3`` (docs/models-findings.md).
 HIDDEN_P = 0.4
 
 
