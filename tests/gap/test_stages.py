@@ -518,3 +518,22 @@ def test_a_region_that_predicts_no_better_than_its_global_form_is_named_global()
     assert not tie_keeps_global(region, (region, plain), TieBreak(3, (plain,)), cands)  # worse, just not provably
     assert not tie_keeps_global(region, (region, "friction_region"), TieBreak(3), cands)  # the global form ruled out
     assert not tie_keeps_global(plain, (plain, region), TieBreak(3), cands)  # not a region effect
+
+
+def test_consistent_text_does_not_claim_agreement_when_the_windows_depart_as_a_whole():
+    # development case 6219139 (a gust): nothing located, departure p = 0.001, verdict consistent
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from voe.gap.verify import explain
+
+    ver = SimpleNamespace(rmse_before=0.01, rmse_after=0.01, position_rmse_before=0.01, position_rmse_after=0.01,
+                          looks_like_noise=True, flagged_after=0.0)
+    args = ("consistent", [], [], [], ver, 0.09, np.full((2, 3), 1e-3), "test", 116.2)
+    spread = explain(*args, departure_p=0.001)
+    assert "consistent with the nominal simulation" not in spread and "not shown to agree" in spread
+    assert "departure p = 0.001" in spread and "a lead to check" in spread
+    calm = explain(*args, departure_p=0.4)
+    assert calm.startswith("The recordings are consistent with the nominal simulation") and "departure p" not in calm
+    assert explain(*args).startswith("The recordings are consistent")
