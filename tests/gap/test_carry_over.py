@@ -37,16 +37,22 @@ def test_a_model_that_leaves_the_median_test_window_departing_more_is_not_report
     assert carry.worse_on_test(c, None, None, 5.0) is c
 
 
-def _clean_problem(seed: int = 1078150):
+def _problem(seed: int, truth: str):
+    """A white-noise bench case prepared as the finder does: (problem, config, clean replicate's episodes,
+    the location's finisher, whose ``z_threshold`` is the located threshold)."""
     from voe.gap.bench import make_case
     from voe.gap.finder import GapFinder
     from voe.gap.stages import GapConfig, locate_parts, prepare
 
-    case = make_case(np.random.default_rng(seed), "none", 1e-3, 12, 3.0, noise_kind="white")
+    case = make_case(np.random.default_rng(seed), truth, 1e-3, 12, 3.0, noise_kind="white")
     cfg = GapConfig()
     p = prepare(case.scene, case.episodes, GapFinder(max_effects=1, seed=seed, config=cfg).effects, cfg)
-    null_eps, _ = locate_parts(p, cfg, np.random.default_rng(seed))
-    return p, cfg, null_eps
+    null_eps, finish = locate_parts(p, cfg, np.random.default_rng(seed))
+    return p, cfg, null_eps, finish
+
+
+def _clean_problem(seed: int = 1078150):
+    return _problem(seed, "none")[:3]
 
 
 def test_a_model_that_makes_a_test_window_depart_beyond_nominal_and_replicate_is_not_reported():
@@ -92,15 +98,8 @@ def test_a_right_model_is_not_blamed_for_a_window_that_its_own_motion_makes_chao
     own noise does."""
     import dataclasses
 
-    from voe.gap.bench import make_case
-    from voe.gap.finder import GapFinder
-    from voe.gap.stages import GapConfig, locate_parts, prepare
-
     seed = 6774127
-    case = make_case(np.random.default_rng(seed), "restitution", 1e-3, 12, 3.0, noise_kind="white")
-    cfg = GapConfig()
-    p = prepare(case.scene, case.episodes, GapFinder(max_effects=1, seed=seed, config=cfg).effects, cfg)
-    null_eps, finish = locate_parts(p, cfg, np.random.default_rng(seed))
+    p, cfg, null_eps, finish = _problem(seed, "restitution")
     z_thr = finish().z_threshold
     right = FitResult(EffectSum((p.candidates["restitution"],)), np.array([0.8344]), 0, 0, np.ones(3))
     bare = dataclasses.replace(cfg, deepen_replicates=0, deepen_growth=1.0)
@@ -120,15 +119,8 @@ def test_a_right_model_is_not_blamed_for_a_few_per_cent_more_in_a_window_that_al
     rule caught had grown it by (x1.29 to x10), so it is kept."""
     import dataclasses
 
-    from voe.gap.bench import make_case
-    from voe.gap.finder import GapFinder
-    from voe.gap.stages import GapConfig, locate_parts, prepare
-
     seed = 6219127
-    case = make_case(np.random.default_rng(seed), "restitution", 1e-3, 12, 3.0, noise_kind="white")
-    cfg = GapConfig()
-    p = prepare(case.scene, case.episodes, GapFinder(max_effects=1, seed=seed, config=cfg).effects, cfg)
-    null_eps, finish = locate_parts(p, cfg, np.random.default_rng(seed))
+    p, cfg, null_eps, finish = _problem(seed, "restitution")
     z_thr = finish().z_threshold
     right = FitResult(EffectSum((p.candidates["restitution"],)), np.array([0.7341]), 0, 0, np.ones(3))
     old = carry.deepened(p, right, dataclasses.replace(cfg, deepen_growth=1.0), z_thr, null_eps, seed=seed)
