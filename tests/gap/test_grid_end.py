@@ -1,7 +1,8 @@
-"""A one-parameter fit left at its coarse grid's end, with the fitting cost still falling beyond
-it, is where the search stopped, not a fit (``voe.gap.grid_end.beyond_grid``): it is refitted from
-there and reported only if the refit is a fit that passes the check's bars, else not at all
-(``voe.gap.grid_end.past_grid``)."""
+"""A one-parameter fit whose minimum sits at its coarse grid's end walks on outward
+(``voe.gap.fit._walk``, session 43). A value still left where a walk ran out of steps, with the
+fitting cost falling beyond it, is where the search stopped, not a fit
+(``voe.gap.grid_end.beyond_grid``): it is refitted from there and reported only if the refit is a
+fit that passes the check's bars, else not at all (``voe.gap.grid_end.past_grid``)."""
 
 from __future__ import annotations
 
@@ -116,14 +117,54 @@ def test_the_refit_is_not_reported_when_the_cross_fitted_folds_disagree(monkeypa
     assert run((1.4, 6.5)).keys == ("mass[box]",)  # both inside: a fit
 
 
-def test_the_fit_says_when_it_stopped_at_its_grid_end():
-    def scalar(scan: dict[float, float]):
-        fold = _Fold(scan)
-        f = SimpleNamespace(cost=fold.cost)
-        lo, hi = MASS.bounds(None)
-        return Fitter._scalar(f, MASS, np.array([1.0]), lo, hi, np.array([0.2]), 20)
+def _scalar(cost, effect=MASS, x0=1.0, scale=0.2, nfev=12, bounds=None):
+    f = SimpleNamespace(cost=cost)
+    lo, hi = bounds or effect.bounds(None)
+    return Fitter._scalar(f, effect, np.array([x0]), np.asarray(lo, float), np.asarray(hi, float), np.array([scale]), nfev)
 
-    x, _, end = scalar(FLOOR_6685146)
-    assert x[0] == 3.3 and end  # Brent between 2.0 and 3.3 finds nothing lower than 3.3
-    x, _, end = scalar(MASS_6685007)
+
+def test_a_one_parameter_fit_walks_past_its_grid_end_to_the_minimum():
+    """A minimum at the grid's last point is followed outward (``voe.gap.fit._walk``) until the
+    cost rises, then bracketed; a minimum inside the grid is not walked from."""
+    x, _, end = _scalar(_Fold(FLOOR_6685146).cost)  # the cost falls on past 3.3 to about 7
+    assert 5.0 < x[0] < 10.0 and not end
+    x, _, end = _scalar(_Fold(MASS_BEYOND).cost)  # a true mass of about 4
+    assert 3.6 < x[0] < 4.8 and not end
+    x, _, end = _scalar(_Fold(MASS_6685007).cost)
     assert 1.9 < x[0] < 2.4 and not end
+
+
+def test_the_walk_finds_a_value_thirty_scales_out():
+    """Development seed 6219's ``joint_friction``: the start near zero, the truth 10-30 scales out
+    (6219018: 25 scales), where the grid (10 scales) used to stop."""
+    drag = EffectSum((EFFECTS.get("linear_drag")(),))
+    calls = []
+
+    def cost(effect, params):
+        calls.append(float(params[0]))
+        return (float(params[0]) - 25.0) ** 2 + 1.0
+
+    x, c, end = _scalar(cost, drag, x0=0.1, scale=1.0, bounds=([0.0], [1e3]))
+    assert abs(x[0] - 25.0) < 0.05 and not end
+    assert max(calls) < 100  # stepped 10 -> 31 -> 94 (the rise), no further
+    assert max(calls[:5]) == 10.1  # the grid alone reaches 10.1 (0.1 + 10 scales), where the fit used to stop
+
+
+def test_the_walk_goes_down_as_well():
+    drag = EffectSum((EFFECTS.get("linear_drag")(),))
+    x, _, end = _scalar(lambda e, p: (float(p[0]) + 25.0) ** 2, drag, x0=0.0, scale=1.0, bounds=([-1e3], [1e3]))
+    assert abs(x[0] + 25.0) < 0.05 and not end
+
+
+def test_a_walk_that_reaches_a_bound_stops_there():
+    drag = EffectSum((EFFECTS.get("linear_drag")(),))
+    x, _, end = _scalar(lambda e, p: -float(p[0]), drag, x0=0.1, scale=1.0, bounds=([0.0], [50.0]))
+    assert x[0] == 50.0 and not end  # at the bound: nothing lies beyond, not a grid end
+
+
+def test_a_walk_that_runs_out_of_steps_is_still_a_grid_end(monkeypatch):
+    import voe.gap.fit as fit
+    monkeypatch.setattr(fit, "WALK_STEPS", 2)
+    drag = EffectSum((EFFECTS.get("linear_drag")(),))
+    x, _, end = _scalar(lambda e, p: -float(p[0]), drag, x0=0.1, scale=1.0, bounds=([0.0], [1e6]))
+    assert x[0] == 94.1 and end  # 10.1 -> 31.1 -> 94.1, the cost still falling

@@ -35,7 +35,10 @@ def beyond_grid(fitter: FoldedFitter, model: FitResult) -> str | None:
     7 (48912 at 3.3, 46671 at 4, 45178 at 7), while the selection gain peaks at 2.5 (18.9 %)
     and is 8.6 % at 7, short of the round's 17.5 %. A true mass (6685007, 2.15) is fitted
     inside the grid (2.14; cost 10734 at 2, 12929 at 3.3). Not asked of a value at a bound
-    (nothing lies beyond), nor of a Brent result (a minimum between two grid points).
+    (nothing lies beyond), nor of a Brent result (a minimum between two grid points). Since
+    session 43 a fit whose minimum sits at its grid's end walks on outward (``voe.gap.fit._walk``;
+    6685146's scan now fits about 7 in the search itself), so only a walk that ran out of steps
+    inside the bounds leaves such a value.
     """
     part = model.effect.parts[-1]
     for f, v in zip(fitter.folds, model.fold_params, strict=True):
