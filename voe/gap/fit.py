@@ -46,8 +46,8 @@ class FitResult:
     window_sse: np.ndarray | None = None  # (W,) held-out squared error per window
     fold_params: tuple[np.ndarray, ...] = ()  # per fold (see voe.gap.folds); () means (params,)
     train_full: bool = False  # train_cost is the cost on every fold's full training windows (not a focused subset)
-    grid_end: bool = False  # a one-parameter fit left at its coarse grid's outermost point, inside the bounds
-    # (``Fitter._scalar``: the bounded Brent beside it found nothing lower; ``voe.gap.grid_end.beyond_grid``)
+    grid_end: bool = False  # a one-parameter fit left where its walk past the coarse grid ran out of steps, inside
+    # the bounds, the cost still falling (``Fitter._scalar``, ``_walk``; ``voe.gap.grid_end.beyond_grid``)
 
     def __post_init__(self) -> None:
         if not self.fold_params:
