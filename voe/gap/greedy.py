@@ -5,7 +5,8 @@ Why its own module: the statistics of a round (gains, bootstrap bounds, groups, 
 in ``voe.gap.search``; this loop only schedules work. The data's round ``r`` and the null's round
 ``r`` are needed together (the null's round ``r`` is the threshold of the data's), so their
 candidate fits share one parallel loop. Each fit is the one the serial search makes, so results
-do not depend on the schedule.
+do not depend on the schedule. When two or more candidates beat a round's threshold, the best of
+them are refined before the race between them (``voe.gap.race``).
 
 A winner whose gain beats the threshold but whose bootstrap lower bound is not positive may be
 accepted on trial (``Trial``): the next round must confirm it, or both are undone; a trial on top
@@ -37,6 +38,7 @@ from voe.gap.fit import FitResult
 from voe.gap.folds import FoldedFitter, as_sum
 from voe.gap.null import NullSearch
 from voe.gap.pairs import NullSnapshot, data_pair, pair_step
+from voe.gap.race import refined_race
 from voe.gap.reselect import reselect
 from voe.gap.search import (
     Round,
@@ -122,6 +124,7 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
             paired.record(*outs[1])
         skipped = later and len(outs) == 1
         thr = None if skipped else threshold(r)
+        results, gains, refined = refined_race(fitter, results, gains, thr, before_sse, n_jobs)  # lower: first fits'
         group = [] if skipped else choose(gains, lower if lower_q else {}, thr)
         before = float(np.sqrt(before_sse.sum() / max(1, sum(f._n_test for f in fitter.folds))))
         provisional = False
@@ -195,7 +198,8 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
                 if paired is not None and len(outs) > 1 else None
             trial = Trial(len(rounds) - 1, current, before_sse, thr, rounds[-1], snap)
         pool.pop(winner)  # the group's other members stay candidates
-        current = accept_all([(fitter, results[winner], gains[winner], before_sse)], n_jobs)[0]
+        current = results[winner] if winner in refined else \
+            accept_all([(fitter, results[winner], gains[winner], before_sse)], n_jobs)[0]
         before_sse = current.window_sse
         keys.append(winner)
         if on_model is not None:
