@@ -9,15 +9,17 @@ from dataclasses import replace
 import numpy as np
 
 from voe.gap.effects import EFFECTS
-from voe.gap.effects.base import EffectSum
+from voe.gap.effects.base import EffectSum, FitContext
 from voe.gap.fit import FitResult
-from voe.gap.race import contenders
+from voe.gap.race import contenders, race_group
+from voe.gap.search import choose
 
 KEYS = ("spring_anchor", "constant_acceleration", "linear_drag", "quadratic_drag")
 
 
 class _Fold:
     _n_test = 20
+    ctx = FitContext(None, np.array([0.0, 0.0]), np.array([2.0, 2.0]), 1.0, 1.0)
 
 
 class _RaceFitter:
@@ -98,3 +100,29 @@ def test_a_refine_that_loses_leaves_the_first_fit_in_the_race():
     assert res.keys == ("spring_anchor",)
     assert res.model.train_cost == 0.0  # the first fit, kept: its refine lost
     assert np.isclose(res.rounds[0].gains["spring_anchor"], 1 - np.sqrt(0.40))
+
+
+def test_a_refine_adds_members_to_the_group_and_never_removes_one():
+    """6219106's shape: two candidates within 10 % on first fits; the refine helps the more
+    flexible one more, and both stay in the group (the winner decided on refined fits)."""
+    first = {"spring_anchor": 0.889, "constant_acceleration": 0.880, "linear_drag": 0.02}
+    refined = {"spring_anchor": 0.907, "constant_acceleration": 0.881, "linear_drag": 0.02}
+    lower = dict.fromkeys(first, 0.5)
+    assert choose(refined, lower, 0.1) == ["spring_anchor"]  # refined alone: the constant force is out
+    assert race_group(first, refined, lower, 0.1) == ["spring_anchor", "constant_acceleration"]
+    for gains in (first, refined):  # without a race (first is gains) it is ``choose``
+        assert race_group(gains, gains, lower, 0.1) == choose(gains, lower, 0.1)
+    assert race_group(first, refined, lower, None) == []
+    # 6219041's shape: the refine brings a runner-up into the group, best refined first
+    first = {"spring_anchor": 0.872, "constant_acceleration": 0.847}
+    refined = {"spring_anchor": 0.871, "constant_acceleration": 0.887}
+    assert race_group(first, refined, lower, 0.1) == ["constant_acceleration", "spring_anchor"]
+
+
+def test_first_fits_within_the_group_stay_candidates_for_the_check():
+    """In the search: a rival the refine pulls ahead of the group keeps the first fits' group."""
+    first = {"": np.ones(20), "spring_anchor": np.full(20, 0.40), "constant_acceleration": np.full(20, 0.42),
+             "linear_drag": np.full(20, 0.98), "quadratic_drag": np.full(20, 0.99)}
+    res = _greedy(_RaceFitter(first, {"spring_anchor": np.full(20, 0.20)}))
+    assert res.keys == ("spring_anchor",)
+    assert res.rounds[0].group == ("spring_anchor", "constant_acceleration")

@@ -38,14 +38,13 @@ from voe.gap.fit import FitResult
 from voe.gap.folds import FoldedFitter, as_sum
 from voe.gap.null import NullSearch
 from voe.gap.pairs import NullSnapshot, data_pair, pair_step
-from voe.gap.race import refined_race
+from voe.gap.race import race_group, refined_race
 from voe.gap.reselect import reselect
 from voe.gap.search import (
     Round,
     RoundTask,
     accept_all,
     bound_limit,
-    choose,
     covers_contacts,
     fit_rounds,
     gain_lower_bound,
@@ -124,12 +123,13 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
             paired.record(*outs[1])
         skipped = later and len(outs) == 1
         thr = None if skipped else threshold(r)
+        first = gains
         results, gains, refined = refined_race(fitter, results, gains, thr, before_sse, n_jobs)  # lower: first fits'
-        group = [] if skipped else choose(gains, lower if lower_q else {}, thr)
+        group = [] if skipped else race_group(first, gains, lower if lower_q else {}, thr)
         before = float(np.sqrt(before_sse.sum() / max(1, sum(f._n_test for f in fitter.folds))))
         provisional = False
         if not group and not skipped and trial is None and lower_q and r + 1 < max_effects and len(pool) > 1:
-            group = choose(gains, {}, thr)  # beats the threshold, but its lower bound is not positive
+            group = race_group(first, gains, {}, thr)  # beats the threshold, but its lower bound is not positive
             provisional = bool(group)
         if not group and pairs_open and len(outs) > 1:
             step = pair_step(fitter, results, gains, lower, before, current, before_sse, paired, outs[1][0], thr, q,
