@@ -126,3 +126,52 @@ def test_first_fits_within_the_group_stay_candidates_for_the_check():
     res = _greedy(_RaceFitter(first, {"spring_anchor": np.full(20, 0.20)}))
     assert res.keys == ("spring_anchor",)
     assert res.rounds[0].group == ("spring_anchor", "constant_acceleration")
+
+
+class _RoundFitter(_RaceFitter):
+    """``_RaceFitter`` with tables per round: keys ``(name, parts already in the model)``."""
+
+    def fit_candidate(self, current, cand):
+        n = 0 if current is None else len(current.effect.parts)
+        parts = (current.effect.parts if current is not None else ()) + cand.parts
+        return FitResult(EffectSum(parts), np.zeros(cand.n_params), 0.0, 0.0, self.first[cand.name, n])
+
+    def refine(self, res):
+        key = (res.effect.parts[-1].name, len(res.effect.parts) - 1)
+        self.refines.append(key[0])
+        return replace(res, window_sse=self.refined.get(key, res.window_sse), train_cost=-1.0)
+
+
+def test_a_trial_is_confirmed_on_first_fits_not_on_the_race_refine():
+    """A provisional winner (gain above the threshold, bootstrap bound not positive) must be
+    confirmed by the next round's winner on its first fit, as before the race: the refine that
+    decided the race does not decide what passes (``voe.gap.race``)."""
+    nominal = np.r_[4.0, 4.0, np.ones(18)]  # (W,) two windows carry the first effect's gain
+    trial = np.r_[0.01, 0.01, np.full(18, 1.2)]  # better on 2 windows, worse on 18: bound not positive
+
+    def rest(x):
+        return np.r_[0.01, 0.01, np.full(18, x)]
+
+    first = {("", 0): nominal, ("spring_anchor", 0): trial}
+    first |= {(k, 0): nominal * 0.99 for k in KEYS[1:]}
+    first |= {("spring_anchor", 1): trial, ("constant_acceleration", 1): trial,
+              ("linear_drag", 1): rest(1.1), ("quadratic_drag", 1): rest(1.11)}  # both pass round 2, bound > 0
+    fitter = _RoundFitter(first, {("linear_drag", 1): rest(0.9)})
+    fitter.first[""] = nominal
+    res = greedy_two(fitter)
+    r1, r2 = res.rounds[0], res.rounds[1]
+    assert r2.basis.startswith("linear_drag won") and "linear_drag" in fitter.refines  # the race, refined
+    # with the first fit the pair (trial + linear_drag) is not better than the nominal on the
+    # resamples that miss the two windows: refused, and the trial is undone
+    assert res.keys == () and r1.winner is None and "not confirmed" in r1.basis
+    # the refined fit alone would have confirmed it
+    from voe.gap.search import gain_lower_bound
+
+    assert gain_lower_bound(nominal, rest(0.9)) > 0 >= gain_lower_bound(nominal, rest(1.1))
+
+
+def greedy_two(fitter):
+    from voe.gap.greedy import greedy
+
+    cands = {k: EFFECTS.get(k)() for k in KEYS}
+    return greedy(fitter, cands, lambda r: 0.1 if r == 0 else 0.03, 2, set(), 1e-3)

@@ -123,7 +123,7 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
             paired.record(*outs[1])
         skipped = later and len(outs) == 1
         thr = None if skipped else threshold(r)
-        first = gains
+        firsts, first = results, gains  # what can pass is decided on these (``voe.gap.race``)
         results, gains, refined = refined_race(fitter, results, gains, thr, before_sse, n_jobs)  # lower: first fits'
         group = [] if skipped else race_group(first, gains, lower if lower_q else {}, thr)
         before = float(np.sqrt(before_sse.sum() / max(1, sum(f._n_test for f in fitter.folds))))
@@ -132,8 +132,8 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
             group = race_group(first, gains, {}, thr)  # beats the threshold, but its lower bound is not positive
             provisional = bool(group)
         if not group and pairs_open and len(outs) > 1:
-            step = pair_step(fitter, results, gains, lower, before, current, before_sse, paired, outs[1][0], thr, q,
-                             n_jobs, found)
+            step = pair_step(fitter, firsts, first, lower, before, current, before_sse, paired, outs[1][0], thr, q,
+                             n_jobs, found)  # first fits, as the null's side: ``found`` was asked on them
             if step is not None:
                 rounds += step.rounds
                 for k in step.pair.keys:
@@ -180,7 +180,7 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
                      f"named {lim}, the simpler")
             winner, tie = lim, None
         if trial is not None:
-            if not trial.confirmed(results[winner].window_sse, q):
+            if not trial.confirmed(firsts[winner].window_sse, q):  # a test: on the first fit, as before the race
                 rounds.append(Round(before, results, gains, lower, thr, basis=trial.refused(winner)))
                 rounds[trial.index] = trial.undone
                 current, keys = trial.current, keys[:-1]
@@ -196,7 +196,7 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
         if provisional:
             snap = NullSnapshot(paired.fitter, paired.current, paired.before_sse, paired.alpha, paired.seed, outs[1][0]) \
                 if paired is not None and len(outs) > 1 else None
-            trial = Trial(len(rounds) - 1, current, before_sse, thr, rounds[-1], snap)
+            trial = Trial(len(rounds) - 1, current, before_sse, thr, rounds[-1], snap, firsts, first)
         pool.pop(winner)  # the group's other members stay candidates
         current = results[winner] if winner in refined else \
             accept_all([(fitter, results[winner], gains[winner], before_sse)], n_jobs)[0]
@@ -241,6 +241,8 @@ class Trial:
     threshold: float  # the trial round's threshold
     round: Round
     null: NullSnapshot | None = None  # the null's same round, for the pair step if the trial is undone
+    firsts: dict[str, FitResult] | None = None  # its round's first fits (``round`` holds refined contenders)
+    first_gains: dict[str, float] | None = None  # their gains
 
     def confirmed(self, after_sse: np.ndarray | None, q: float) -> bool:
         """Whether the pair beats the trial round's threshold, lower bound positive."""
@@ -258,7 +260,8 @@ class Trial:
         effect changes few windows and leaves the rest as they were (9028098's ``mass[ball]``:
         3 better, 1 worse, 8 unchanged).
         """
-        after = self.round.results[self.round.winner].window_sse
+        fits = self.round.results if self.firsts is None else self.firsts  # first fits, as what can pass
+        after = fits[self.round.winner].window_sse
         lr = np.log(np.maximum(after, 1e-300) / np.maximum(self.before_sse, 1e-300))  # (W,)
         return bool(np.sum(lr > 0) <= np.sum(lr < 0))
 
@@ -334,8 +337,9 @@ def _pair_after_trial(fitter: FoldedFitter, trial: Trial, rounds: list[Round], c
     if null is None or len(keys) + 2 > max_effects:
         return current, keys
     r = trial.round
-    step = pair_step(fitter, r.results, r.gains, r.lower, r.before, current, trial.before_sse, null, null.results,
-                     r.threshold, q, n_jobs)
+    results, gains = (r.results, r.gains) if trial.firsts is None else (trial.firsts, trial.first_gains)
+    step = pair_step(fitter, results, gains, r.lower, r.before, current, trial.before_sse, null, null.results,
+                     r.threshold, q, n_jobs)  # first fits: the null's side is its round's first fits
     if step is None:
         return current, keys
     first = replace(step.rounds[0], basis=step.rounds[0].basis.replace(

@@ -18,7 +18,12 @@ their refined gains. Only the naming changes: which candidates can pass is decid
 fits, as before (gain above the threshold, which the null calibrates on first fits, and the
 bootstrap lower bound of the first fit, kept as it was: on development floor patch 6219146 a
 refined ``friction_region``'s bound turned positive where its first fit's was not, which would
-have let the refine decide how it is accepted). A refined fit is kept only if it does not lose
+have let the refine decide how it is accepted). The same holds for the tests a provisional
+winner (``voe.gap.greedy.Trial``) faces: the next round's confirmation, ``mostly_better`` and the
+pair step after an undone trial see the rounds' first fits, since each decides what can pass
+(and the thresholds they compare with, the null's pair step among them, come from first fits);
+the rounds record the refined contenders (their gains decided the race, and the report shows
+them). A refined fit is kept only if it does not lose
 (the refine step's rule), so a contender's gain can only rise. The winner is not refined again.
 
 The refine can only add members to the round's group, never remove one (``race_group``). Why: a
