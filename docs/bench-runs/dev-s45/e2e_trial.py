@@ -1,11 +1,14 @@
 """End-to-end dev probe (PYTHONPATH=<checkout>): run bench cases, print names/verdict/dropped next to the stored
 record, and count the calls where a trial's test could see a race's refined fit: Trial.confirmed,
 Trial.mostly_better and _pair_after_trial when the trial's round (or the confirming round) had refined
-contenders. A case with 0 such calls could not differ between 9744e76 and 3d1a337. Reads TSV: seed truth noise_kind."""
-import json, sys, time
+contenders. A case with 0 such calls could not differ between 9744e76 and 3d1a337. Reads TSV: seed truth noise_kind.
+The lines are dev-s43/e2e.py's with a "log" field (session 45's e2e_trial.jsonl came from a first version that
+printed the same fields but n_walks, walks and old_dropped)."""
+import importlib.util
+from pathlib import Path
+
 import voe.gap.greedy as greedy
 import voe.gap.race as race
-from voe.gap.bench import run_case
 
 LOG = []
 _orig_race = race.refined_race
@@ -39,17 +42,8 @@ def pair_after_trial(fitter, trial, *a, **k):
 
 
 greedy._pair_after_trial = pair_after_trial
-stored = {}
-for path in sys.argv[1:]:
-    for l in open(path).read().splitlines()[1:]:
-        r = json.loads(l); stored[r["seed"]] = r
-for line in sys.stdin:
-    s, t, nk = line.split()[:3]
-    LOG.clear()
-    t0 = time.time()
-    r = run_case((int(s), t, 1e-3, 3, 12, 3.0, nk))
-    old = stored.get(int(s), {})
-    same = (r["names"], r["verdict"]) == (old.get("names"), old.get("verdict"))
-    print(json.dumps({"seed": int(s), "truth": t, "nk": nk, "names": r["names"], "verdict": r["verdict"],
-                      "dropped": r["dropped"], "old_names": old.get("names"), "old_verdict": old.get("verdict"),
-                      "same": same, "log": LOG[:40], "sec": round(time.time() - t0)}), flush=True)
+if __name__ == "__main__":  # the case loop is dev-s43's (its lines, plus this log)
+    spec = importlib.util.spec_from_file_location("e2e", Path(__file__).parent.parent / "dev-s43" / "e2e.py")
+    e2e = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(e2e)
+    e2e.main(extra=lambda: {"log": LOG[:40]}, before_case=LOG.clear)
