@@ -2,7 +2,7 @@
 to the stored record, and log every call of voe.gap.spare.spare from the search (winner, group, earlier thresholds,
 round threshold, and what it returned). A case whose log holds no call that returned a member cannot differ from
 main at cb563ba in its search. Reads TSV: seed truth noise_kind. The lines are dev-s43/e2e.py's with a "log" field."""
-import importlib.util
+import sys
 from pathlib import Path
 
 import voe.gap.greedy as greedy
@@ -23,7 +23,7 @@ def spare(fitter, winner, kept, results, thresholds, threshold):
 
 greedy.spare = spare
 if __name__ == "__main__":  # the case loop is dev-s43's (its lines, plus this log)
-    spec = importlib.util.spec_from_file_location("e2e", Path(__file__).parent.parent / "dev-s43" / "e2e.py")
-    e2e = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(e2e)
+    sys.path.insert(0, str(Path(__file__).parent.parent / "dev-s43"))
+    import e2e
+
     e2e.main(extra=lambda: {"log": LOG[:20]}, before_case=LOG.clear)
