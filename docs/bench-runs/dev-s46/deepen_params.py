@@ -5,18 +5,13 @@ model's 95 % interval (normal, sd = interval width / 3.92, clipped to the interv
 fitted model, as the data's is: a posterior-predictive spread that includes the parameter's uncertainty.
 Question (session 46 lead, 1066071): does a right name's deepened window fall inside that spread while the misnames
 the bar catches (4593142, 1967147, 1078143, 6219142) stay outside it? Usage: ... deepen_params.py SEED:TRUTH:NOISE ..."""
-import json
-import sys
-import time
 
 import numpy as np
+from probe import run
 
 import voe.gap.carry_over as co
-import voe.gap.finder as finder_mod
-from voe.gap.bench import make_case
 from voe.gap.check import heldout_pairs
 from voe.gap.departure import ORDER
-from voe.gap.finder import GapConfig, GapFinder
 from voe.gap.locate import window_z
 from voe.gap.recordings import Episode
 from voe.gap.shooting import Shooter, Window
@@ -85,15 +80,9 @@ def worse_on_test(c, p, config, z_thr, null_episodes=None, seed=0):
     return out
 
 
-co.worse_on_test = worse_on_test
-finder_mod.worse_on_test = worse_on_test
-for arg in sys.argv[1:]:
-    seed, truth, nk = arg.split(":")
-    t0 = time.time()
-    LOG.clear()
-    case = make_case(np.random.default_rng(int(seed)), truth, 1e-3, 12, 3.0, noise_kind=nk)
+def _truth(case):
     TRUTH.clear()
     TRUTH.update({k: np.asarray(v[0], dtype=float) for k, v in case.true.items()})
-    f = GapFinder(max_effects=3, seed=int(seed), config=GapConfig()).fit(case.scene, case.episodes)
-    print(json.dumps({"case": int(seed), "truth": truth, "nk": nk, "names": [e["name"] for e in f.effects_],
-                      "verdict": f.verdict_, "asked": LOG, "sec": round(time.time() - t0)}), flush=True)
+
+
+run(worse_on_test, LOG, _truth)

@@ -8,18 +8,13 @@ model itself at each window's parameters (``voe.gap.departure.local_replicates``
 the data against them (``voe.gap.departure.tail_p``: how far data windows exceed their own replicates, (R + 1)^-k
 for k departing windows) with the per-window numbers. A right name should leave windows its replicates reach; a
 library law fitted to physics outside the library should not. Usage: ... residual_departure.py SEED:TRUTH:NOISE ..."""
-import json
-import sys
-import time
 
 import numpy as np
+from probe import run
 
 import voe.gap.carry_over as co
-import voe.gap.finder as finder_mod
-from voe.gap.bench import make_case
 from voe.gap.check import heldout_pairs
 from voe.gap.departure import REPLICATES, local_replicates, tail_p
-from voe.gap.finder import GapConfig, GapFinder
 
 LOG = []
 _orig = co.worse_on_test
@@ -41,13 +36,4 @@ def worse_on_test(c, p, config, z_thr, null_episodes=None, seed=0):
     return out
 
 
-co.worse_on_test = worse_on_test
-finder_mod.worse_on_test = worse_on_test
-for arg in sys.argv[1:]:
-    seed, truth, nk = arg.split(":")
-    t0 = time.time()
-    LOG.clear()
-    case = make_case(np.random.default_rng(int(seed)), truth, 1e-3, 12, 3.0, noise_kind=nk)
-    f = GapFinder(max_effects=3, seed=int(seed), config=GapConfig()).fit(case.scene, case.episodes)
-    print(json.dumps({"case": int(seed), "truth": truth, "nk": nk, "names": [e["name"] for e in f.effects_],
-                      "verdict": f.verdict_, "asked": LOG, "sec": round(time.time() - t0)}), flush=True)
+run(worse_on_test, LOG)
