@@ -13,7 +13,9 @@ for d in rows:
 
 def kind(d: dict) -> str:
     """right (every name in the truth, the whole truth named; a floor patch as a region effect), partial (a compound
-    named in part), or wrong."""
+    named in part), none (nothing named in the end: a look's model was dropped later), or wrong."""
+    if not d["names"]:
+        return "none"
     if d["truth"] == "floor_patch":
         return "right" if d["names"] and set(d["names"]) <= {"friction_region", "rolling_resistance_region",
                                                              "restitution_region"} else "wrong"
@@ -26,4 +28,4 @@ lowest = [min((a["p_tail"] for a in d["asked"] if a["kept"]), default=1.0) for d
 for alpha in (0.01, 0.005, 0.002):
     print(f"tail p < {alpha:g} in a kept look: " + ", ".join(
         f"{k} {sum(p < alpha for d, p in zip(rows, lowest) if kind(d) == k)} of {sum(kind(d) == k for d in rows)}"
-        for k in ("right", "partial", "wrong")))
+        for k in ("right", "partial", "none", "wrong")))
