@@ -1,7 +1,10 @@
 """Session 47: one table row per case of the residual-departure probe's output (``../dev-s46/residual_departure.py``),
-with the counts a rule on the tail p would give at a few levels. Usage: python table.py FILE.jsonl ..."""
+with the counts a rule on the tail p would give at a few levels. Usage: PYTHONPATH=<checkout> python table.py FILE.jsonl ...
+"""
 import json
 import sys
+
+from voe.gap.truths import OUTSIDE
 
 rows = [json.loads(line) for f in sys.argv[1:] for line in open(f)]
 print("| case | truth -> named | verdict | tail p of each look asked (windows) |")
@@ -12,13 +15,13 @@ for d in rows:
 
 
 def kind(d: dict) -> str:
-    """right (every name in the truth, the whole truth named; a floor patch as a region effect), partial (a compound
-    named in part), none (nothing named in the end: a look's model was dropped later), or wrong."""
+    """right (every name in the truth, the whole truth named; out of the library, only names the bench accepts:
+    ``voe.gap.truths.OUTSIDE``), partial (a compound named in part), none (nothing named in the end: a look's model
+    was dropped later), or wrong."""
     if not d["names"]:
         return "none"
-    if d["truth"] == "floor_patch":
-        return "right" if d["names"] and set(d["names"]) <= {"friction_region", "rolling_resistance_region",
-                                                             "restitution_region"} else "wrong"
+    if d["truth"] in OUTSIDE:
+        return "right" if set(d["names"]) <= set(OUTSIDE[d["truth"]]) else "wrong"
     truth, named = set(d["truth"].split("+")), set(d["names"])
     return "right" if named == truth else "partial" if named and named < truth else "wrong"
 
@@ -27,5 +30,5 @@ print()
 lowest = [min((a["p_tail"] for a in d["asked"] if a["kept"]), default=1.0) for d in rows]
 for alpha in (0.01, 0.005, 0.002):
     print(f"tail p < {alpha:g} in a kept look: " + ", ".join(
-        f"{k} {sum(p < alpha for d, p in zip(rows, lowest) if kind(d) == k)} of {sum(kind(d) == k for d in rows)}"
+        f"{k} {sum(p < alpha for d, p in zip(rows, lowest, strict=True) if kind(d) == k)} of {sum(kind(d) == k for d in rows)}"
         for k in ("right", "partial", "none", "wrong")))
