@@ -123,17 +123,17 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
             paired.record(*outs[1])
         skipped = later and len(outs) == 1
         thr = None if skipped else threshold(r)
-        firsts, first = results, gains  # what can pass is decided on these (``voe.gap.race``)
+        first_fits, first_gains = results, gains  # what can pass is decided on these (``voe.gap.race``)
         results, gains, refined = refined_race(fitter, results, gains, thr, before_sse, n_jobs)  # lower: first fits'
-        group = [] if skipped else race_group(first, gains, lower if lower_q else {}, thr)
+        group = [] if skipped else race_group(first_gains, gains, lower if lower_q else {}, thr)
         before = float(np.sqrt(before_sse.sum() / max(1, sum(f._n_test for f in fitter.folds))))
         provisional = False
         if not group and not skipped and trial is None and lower_q and r + 1 < max_effects and len(pool) > 1:
-            group = race_group(first, gains, {}, thr)  # beats the threshold, but its lower bound is not positive
+            group = race_group(first_gains, gains, {}, thr)  # beats the threshold, but its lower bound is not positive
             provisional = bool(group)
         if not group and pairs_open and len(outs) > 1:
-            step = pair_step(fitter, firsts, first, lower, before, current, before_sse, paired, outs[1][0], thr, q,
-                             n_jobs, found)  # first fits, as the null's side: ``found`` was asked on them
+            step = pair_step(fitter, first_fits, first_gains, lower, before, current, before_sse, paired, outs[1][0],
+                             thr, q, n_jobs, found)  # first fits, as the null's side: ``found`` was asked on them
             if step is not None:
                 rounds += step.rounds
                 for k in step.pair.keys:
@@ -180,7 +180,7 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
                      f"named {lim}, the simpler")
             winner, tie = lim, None
         if trial is not None:
-            if not trial.confirmed(firsts[winner].window_sse, q):  # a test: on the first fit, as before the race
+            if not trial.confirmed(first_fits[winner].window_sse, q):  # a test: on the first fit, as before the race
                 rounds.append(Round(before, results, gains, lower, thr, basis=trial.refused(winner)))
                 rounds[trial.index] = trial.undone
                 current, keys = trial.current, keys[:-1]
@@ -196,7 +196,7 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
         if provisional:
             snap = NullSnapshot(paired.fitter, paired.current, paired.before_sse, paired.alpha, paired.seed, outs[1][0]) \
                 if paired is not None and len(outs) > 1 else None
-            trial = Trial(len(rounds) - 1, current, before_sse, thr, rounds[-1], snap, firsts, first)
+            trial = Trial(len(rounds) - 1, current, before_sse, thr, rounds[-1], snap, first_fits, first_gains)
         pool.pop(winner)  # the group's other members stay candidates
         current = results[winner] if winner in refined else \
             accept_all([(fitter, results[winner], gains[winner], before_sse)], n_jobs)[0]
