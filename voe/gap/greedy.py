@@ -196,7 +196,7 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
         if provisional:
             snap = NullSnapshot(paired.fitter, paired.current, paired.before_sse, paired.alpha, paired.seed, outs[1][0]) \
                 if paired is not None and len(outs) > 1 else None
-            trial = Trial(len(rounds) - 1, current, before_sse, thr, rounds[-1], snap, first_fits, first_gains)
+            trial = Trial(len(rounds) - 1, current, before_sse, thr, rounds[-1], first_fits, first_gains, snap)
         pool.pop(winner)  # the group's other members stay candidates
         current = results[winner] if winner in refined else \
             accept_all([(fitter, results[winner], gains[winner], before_sse)], n_jobs)[0]
@@ -240,9 +240,9 @@ class Trial:
     before_sse: np.ndarray  # (W,) its selection errors
     threshold: float  # the trial round's threshold
     round: Round
+    firsts: dict[str, FitResult]  # its round's first fits (``round`` holds refined contenders)
+    first_gains: dict[str, float]  # their gains
     null: NullSnapshot | None = None  # the null's same round, for the pair step if the trial is undone
-    firsts: dict[str, FitResult] | None = None  # its round's first fits (``round`` holds refined contenders)
-    first_gains: dict[str, float] | None = None  # their gains
 
     def confirmed(self, after_sse: np.ndarray | None, q: float) -> bool:
         """Whether the pair beats the trial round's threshold, lower bound positive."""
@@ -260,8 +260,7 @@ class Trial:
         effect changes few windows and leaves the rest as they were (9028098's ``mass[ball]``:
         3 better, 1 worse, 8 unchanged).
         """
-        fits = self.round.results if self.firsts is None else self.firsts  # first fits, as what can pass
-        after = fits[self.round.winner].window_sse
+        after = self.firsts[self.round.winner].window_sse  # the first fit, as what can pass
         lr = np.log(np.maximum(after, 1e-300) / np.maximum(self.before_sse, 1e-300))  # (W,)
         return bool(np.sum(lr > 0) <= np.sum(lr < 0))
 
@@ -337,9 +336,8 @@ def _pair_after_trial(fitter: FoldedFitter, trial: Trial, rounds: list[Round], c
     if null is None or len(keys) + 2 > max_effects:
         return current, keys
     r = trial.round
-    results, gains = (r.results, r.gains) if trial.firsts is None else (trial.firsts, trial.first_gains)
-    step = pair_step(fitter, results, gains, r.lower, r.before, current, trial.before_sse, null, null.results,
-                     r.threshold, q, n_jobs)  # first fits: the null's side is its round's first fits
+    step = pair_step(fitter, trial.firsts, trial.first_gains, r.lower, r.before, current, trial.before_sse, null,
+                     null.results, r.threshold, q, n_jobs)  # first fits: the null's side is its round's first fits
     if step is None:
         return current, keys
     first = replace(step.rounds[0], basis=step.rounds[0].basis.replace(
