@@ -20,15 +20,22 @@ LOG = []
 _orig = co.worse_on_test
 
 
-def worse_on_test(c, p, config, z_thr, null_episodes=None, seed=0):
-    out = _orig(c, p, config, z_thr, null_episodes, seed)
-    if c.model is None:
-        return out
+def model_replicates(c, p, config, seed):
+    """The test windows' z with ``c.model`` (W,) and ``REPLICATES`` window-local replicates of the model at each
+    window's parameters (R, W), drawn with ``seed`` as ``voe.gap.carry_over.deepened`` draws them."""
     pairs = heldout_pairs(p, c.model, config)[0]
     za = np.asarray(c.verification.z_after)  # (W,)
     rng = np.random.default_rng(seed)
     local = np.column_stack([local_replicates(p.shooter, [w], p.sigma, p.phi, rng, REPLICATES, p.jitter, c.model.effect,
                                               np.asarray(params, dtype=float))[:, 0] for w, params in pairs])  # (R, W)
+    return za, local
+
+
+def worse_on_test(c, p, config, z_thr, null_episodes=None, seed=0):
+    out = _orig(c, p, config, z_thr, null_episodes, seed)
+    if c.model is None:
+        return out
+    za, local = model_replicates(c, p, config, seed)
     LOG.append({"keys": list(c.keys), "kept": out.model is not None, "z_thr": round(z_thr, 2),
                 "p_tail": round(tail_p(za, local), 5), "z_after": [round(float(x), 1) for x in za],
                 "rep_median": [round(float(x), 1) for x in np.median(local, axis=0)],
@@ -36,4 +43,5 @@ def worse_on_test(c, p, config, z_thr, null_episodes=None, seed=0):
     return out
 
 
-run(worse_on_test, LOG)
+if __name__ == "__main__":
+    run(worse_on_test, LOG)
