@@ -42,18 +42,19 @@ def worse_on_test(c, p, config, z_thr, null_episodes=None, seed=0):
     return out
 
 
-co.worse_on_test = worse_on_test
-finder_mod.worse_on_test = worse_on_test
-for arg in sys.argv[1:]:
-    t0 = time.time()
-    LOG.clear()
-    if arg == "real":
-        f = GapFinder(effects=NEAR, seed=0).fit(REAL / "scene.json", REAL / "recordings.csv")
-        row = {"case": "real pendulum", "truth": "angular_damping"}
-    else:
-        seed, truth, nk = arg.split(":")
-        case = make_case(np.random.default_rng(int(seed)), truth, 1e-3, 12, 3.0, noise_kind=nk)
-        f = GapFinder(max_effects=3, seed=int(seed), config=GapConfig()).fit(case.scene, case.episodes)
-        row = {"case": int(seed), "truth": truth, "nk": nk}
-    print(json.dumps({**row, "names": [e["name"] for e in f.effects_], "verdict": f.verdict_, "asked": LOG,
-                      "sec": round(time.time() - t0)}), flush=True)
+if __name__ == "__main__":
+    co.worse_on_test = worse_on_test
+    finder_mod.worse_on_test = worse_on_test
+    for arg in sys.argv[1:]:
+        t0 = time.time()
+        LOG.clear()
+        if arg == "real":
+            f = GapFinder(effects=NEAR, seed=0).fit(REAL / "scene.json", REAL / "recordings.csv")
+            row = {"case": "real pendulum", "truth": "angular_damping"}
+        else:
+            seed, truth, nk = arg.split(":")
+            case = make_case(np.random.default_rng(int(seed)), truth, 1e-3, 12, 3.0, noise_kind=nk)
+            f = GapFinder(max_effects=3, seed=int(seed), config=GapConfig()).fit(case.scene, case.episodes)
+            row = {"case": int(seed), "truth": truth, "nk": nk}
+        print(json.dumps({**row, "names": [e["name"] for e in f.effects_], "verdict": f.verdict_, "asked": LOG,
+                          "sec": round(time.time() - t0)}), flush=True)

@@ -2,10 +2,11 @@
 ``model-departure`` with ``GapConfig.own_departure_alpha`` set to 0.005 by default), as
 ``tests/gap/test_real_pendulum.py`` calls it: the verdict, the names and what the checks dropped, and why."""
 import json
-from pathlib import Path
+
+from floored_departure import NEAR, REAL
+
 from voe.gap import GapFinder
-DATA = Path(__file__).resolve().parents[3] / "data" / "real" / "single-pendulum"
-NEAR = ("angular_damping", "linear_drag", "joint_friction", "spring_anchor", "constant_acceleration")
-f = GapFinder(effects=NEAR, seed=0).fit(DATA / "scene.json", DATA / "recordings.csv")
+
+f = GapFinder(effects=NEAR, seed=0).fit(REAL / "scene.json", REAL / "recordings.csv")
 print(json.dumps({"verdict": f.verdict_, "names": [e["name"] for e in f.effects_], "fit": f.fit_,
                   "dropped": f.checked_.dropped}, default=str), flush=True)
