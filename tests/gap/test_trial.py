@@ -156,3 +156,31 @@ def test_an_undone_trial_falls_back_to_the_pair_step_on_its_round():
     null = NullSearch(_PairFitter({"": base}, names), cands, alpha=0.05, min_gain=0.05, seed=0)
     res = greedy(_PairFitter(data, names), cands, null, 3, set(), 1e-3)
     assert res.keys == () and res.model is None
+
+
+def test_a_provisional_region_winner_is_named_by_its_global_form_when_that_passes_as_the_group_did(monkeypatch):
+    """Development case 8657133 (``rolling_resistance`` 0.043 and ``mass``): round 1's group held
+    ``rolling_resistance_region`` (gain 13.5 %) and ``rolling_resistance`` (13.4 %), neither with a
+    positive bootstrap bound, so the round passed provisionally, and the global form, asked for a
+    positive bound the group was not asked for, could not replace the region: the patch was named."""
+    import voe.gap.greedy as g
+    from voe.gap.search import gain_lower_bound, window_gain
+
+    class _Tied(_TableFitter):
+        def residuals(self, effect, fold_params):  # both members predict every window alike
+            return [np.zeros(3) for _ in range(20)]
+
+    monkeypatch.setattr(g, "covers_contacts", lambda fitter, res: False)  # a table fitter has no contacts
+    base = np.ones(20)
+    region = np.r_[np.full(2, 1e-8), 1.02, np.ones(17)]  # (W,) two windows far better, one a little worse
+    plain = region.copy()
+    plain[2] = 1.03  # a little worse than the patch on one window
+    assert window_gain(base, plain) > 0.1 and gain_lower_bound(base, plain) < 0
+    assert window_gain(base, region) > window_gain(base, plain)
+    cands = {k: EFFECTS.get(k)() for k in ("rolling_resistance_region", "rolling_resistance", "quadratic_drag")}
+    table = {"": base, "rolling_resistance_region": region, "rolling_resistance": plain,
+             "quadratic_drag": np.full(20, 0.99), "quadratic_drag+rolling_resistance": plain,
+             "rolling_resistance+rolling_resistance_region": plain, "quadratic_drag+rolling_resistance_region": region}
+    res = g.greedy(_Tied(table), cands, lambda r: 0.1, 3, set(), 1e-3)
+    assert res.keys == ("rolling_resistance",) and res.trial_alone
+    assert "named rolling_resistance, the whole floor" in res.rounds[0].basis and "provisional" in res.rounds[0].basis

@@ -166,7 +166,7 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
         winner, kept, basis, tie = (group[0], (group[0],), "alone", None) if len(group) == 1 else \
             tie_break(fitter, group, results, pool, contexts() if callable(contexts) else contexts, gains, noise)
         plain = pool[winner].global_name
-        if plain in results and gains[plain] > thr and lower.get(plain, 1.0) > 0:
+        if plain in results and gains[plain] > thr and (lower.get(plain, 1.0) > 0 or provisional):  # judged as the group was
             why = f"{winner}'s interval holds every contact" if covers_contacts(fitter, results[winner]) else \
                 f"{winner} is {plain} limited to an interval and predicts no better ({basis})" \
                 if tie_keeps_global(winner, kept, tie, pool) else None
