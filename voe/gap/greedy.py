@@ -52,6 +52,7 @@ from voe.gap.search import (
     tie_keeps_global,
     window_gain,
 )
+from voe.gap.unlimit import unlimited_member
 
 _SKIPPED = ("no candidate gained more than the {:.0f} % floor under every threshold (best {:.1f} %), nor did a "
             "pair: the null's round, which could only confirm that nothing passes, was not fitted")
@@ -166,6 +167,14 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
         winner, kept, basis, tie = (group[0], (group[0],), "alone", None) if len(group) == 1 else \
             tie_break(fitter, group, results, pool, contexts() if callable(contexts) else contexts, gains, noise)
         plain = pool[winner].global_name
+        joins = None if plain not in results or plain in kept else \
+            unlimited_member(fitter, winner, results, gains, pool, contexts, noise, before_sse)
+        if joins is not None:  # the global form at the region's strength (``voe.gap.unlimit``)
+            via, g, tie, why = joins
+            results, gains = {**results, plain: via}, {**gains, plain: g}
+            first_fits, first_gains = {**first_fits, plain: via}, {**first_gains, plain: g}
+            lower = {**lower, plain: gain_lower_bound(before_sse, via.window_sse, q=q)}
+            kept, refined, basis = kept + (plain,), refined - {plain}, f"{basis}; {why}"  # ``accept`` refines it
         if plain in results and gains[plain] > thr and (lower.get(plain, 1.0) > 0 or provisional):  # judged as the group was
             why = f"{winner}'s interval holds every contact" if covers_contacts(fitter, results[winner]) else \
                 f"{winner} is {plain} limited to an interval and predicts no better ({basis})" \

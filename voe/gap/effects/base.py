@@ -132,6 +132,13 @@ class Effect:
                 return True
         return False
 
+    def unlimited(self, params: np.ndarray, ctx: FitContext) -> np.ndarray | None:
+        """For a region effect: the parameters of its unlimited form (``global_name``) that act
+        everywhere as ``params``' strength acts inside the interval; None for other effects, or
+        where no such parameters exist. Used by ``voe.gap.unlimit``.
+        """
+        return None
+
     def nominal(self, ctx: FitContext) -> np.ndarray:
         """(P,) parameter values at which the effect changes nothing (NaN where none exists, e.g.
         a position). A fitted effect whose 95 % interval contains its nominal values is not

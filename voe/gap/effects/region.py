@@ -78,6 +78,10 @@ class _Region(Effect):
         """Starting strengths inside the patch (each times every starting interval)."""
         return self.STRENGTHS
 
+    def unlimited(self, params: np.ndarray, ctx: FitContext) -> np.ndarray | None:
+        """The strength itself: a force law (``rolling_resistance``) takes the same coefficient."""
+        return self.check(params)[:1]
+
     def bounds(self, ctx: FitContext) -> tuple[np.ndarray, np.ndarray]:
         lo, hi = float(ctx.lo[0]) - 0.5, float(ctx.hi[0]) + 0.5
         return np.array([self.LOW, lo, lo]), np.array([self.HIGH, hi, hi])
@@ -85,6 +89,15 @@ class _Region(Effect):
     def scale(self, ctx: FitContext) -> np.ndarray:
         size = float(ctx.hi[0] - ctx.lo[0])
         return np.array([self.STEP, 0.05 * size, 0.05 * size])
+
+
+def surface_to_bodies(inside: float, floor: float, bodies: list[float]) -> np.ndarray | None:
+    """(1,) the bodies' coefficient c with c * floor = mean(bodies) * inside: a patch's surface
+    coefficient ``inside`` as a material effect on the bodies (pymunk multiplies the body's and
+    the surface's), or None when the floor's own is zero."""
+    if floor <= 0 or not bodies:
+        return None
+    return np.array([float(np.mean(bodies)) * inside / floor])
 
 
 def floor_friction(scene: SceneSpec) -> float:
@@ -143,6 +156,12 @@ class FrictionRegion(_Region):
 
     def nominal(self, ctx: FitContext) -> np.ndarray:
         return np.array([floor_friction(ctx.scene), np.nan, np.nan])
+
+    def unlimited(self, params: np.ndarray, ctx: FitContext) -> np.ndarray | None:
+        """The bodies' coefficient that gives their mean contact coefficient with the nominal floor
+        what the patch gives it (pymunk multiplies the two); None on a frictionless floor."""
+        return surface_to_bodies(self.check(params)[0], floor_friction(ctx.scene),
+                                 [b.friction for b, m in zip(ctx.scene.bodies, self.mask(ctx.scene), strict=True) if m])
 
 
 class RollingResistanceRegion(_Region):

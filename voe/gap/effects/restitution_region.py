@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from voe.gap.effects.base import FitContext
-from voe.gap.effects.region import _Region
+from voe.gap.effects.region import _Region, surface_to_bodies
 from voe.sim.scenefile import Materials, SceneSpec
 
 
@@ -47,3 +47,9 @@ class RestitutionRegion(_Region):
 
     def nominal(self, ctx: FitContext) -> np.ndarray:
         return np.array([floor_elasticity(ctx.scene), np.nan, np.nan])
+
+    def unlimited(self, params: np.ndarray, ctx: FitContext) -> np.ndarray | None:
+        """The bodies' elasticity that gives their mean bounce on the nominal floor what the patch
+        gives it (pymunk multiplies the two); None on a dead floor."""
+        return surface_to_bodies(self.check(params)[0], floor_elasticity(ctx.scene),
+                                 [b.elasticity for b, m in zip(ctx.scene.bodies, self.mask(ctx.scene), strict=True) if m])
