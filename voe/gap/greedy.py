@@ -249,7 +249,7 @@ class Trial:
     before_sse: np.ndarray  # (W,) its selection errors
     threshold: float  # the trial round's threshold
     round: Round
-    firsts: dict[str, FitResult]  # its round's first fits (``round`` holds refined contenders)
+    first_fits: dict[str, FitResult]  # its round's first fits (``round`` holds refined contenders)
     first_gains: dict[str, float]  # their gains
     null: NullSnapshot | None = None  # the null's same round, for the pair step if the trial is undone
 
@@ -269,7 +269,7 @@ class Trial:
         effect changes few windows and leaves the rest as they were (9028098's ``mass[ball]``:
         3 better, 1 worse, 8 unchanged).
         """
-        after = self.firsts[self.round.winner].window_sse  # the first fit, as what can pass
+        after = self.first_fits[self.round.winner].window_sse  # the first fit, as what can pass
         lr = np.log(np.maximum(after, 1e-300) / np.maximum(self.before_sse, 1e-300))  # (W,)
         return bool(np.sum(lr > 0) <= np.sum(lr < 0))
 
@@ -345,7 +345,7 @@ def _pair_after_trial(fitter: FoldedFitter, trial: Trial, rounds: list[Round], c
     if null is None or len(keys) + 2 > max_effects:
         return current, keys
     r = trial.round
-    step = pair_step(fitter, trial.firsts, trial.first_gains, r.lower, r.before, current, trial.before_sse, null,
+    step = pair_step(fitter, trial.first_fits, trial.first_gains, r.lower, r.before, current, trial.before_sse, null,
                      null.results, r.threshold, q, n_jobs)  # first fits: the null's side is its round's first fits
     if step is None:
         return current, keys
