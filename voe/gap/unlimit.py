@@ -21,6 +21,7 @@ patch's strength predicts worse off the patch, keeps its name.
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 
 import numpy as np
 
@@ -36,8 +37,8 @@ def global_at_region(fitter: FoldedFitter, region: FitResult, plain: FitResult) 
     part's ``unlimited`` (clipped to the global part's bounds); None when the region has no such
     form or the two effects differ in their earlier parts.
 
-    The result's selection errors (``window_sse``) and training cost are evaluated (one rollout of
-    each fold's selection and training windows); it is not fitted.
+    The result's selection errors (``window_sse``) are evaluated (one rollout of each fold's
+    selection windows); it is not fitted, and its ``train_cost`` is NaN until ``with_cost``.
     """
     part: Effect = region.effect.parts[-1]
     glob: Effect = plain.effect.parts[-1]
@@ -54,9 +55,15 @@ def global_at_region(fitter: FoldedFitter, region: FitResult, plain: FitResult) 
     fold_params = tuple(fold_params)
     sse = fitter.heldout_sse(plain.effect, fold_params)  # (W,)
     n_test = sum(f._n_test for f in fitter.folds)
-    cost = float(sum(f.cost(plain.effect, p) for f, p in zip(fitter.folds, fold_params, strict=True)))
-    return FitResult(plain.effect, np.median(np.stack(fold_params), axis=0), cost,
+    return FitResult(plain.effect, np.median(np.stack(fold_params), axis=0), float("nan"),
                      float(np.sqrt(np.sum(sse) / max(n_test, 1))), sse, fold_params)
+
+
+def with_cost(fitter: FoldedFitter, res: FitResult) -> FitResult:
+    """``res`` with its training cost over every fold (one rollout of the training windows): asked
+    only of a point that joins its group, whose result the round records."""
+    cost = float(sum(f.cost(res.effect, p) for f, p in zip(fitter.folds, res.fold_params, strict=True)))
+    return replace(res, train_cost=cost)
 
 
 def unlimited_member(fitter: FoldedFitter, winner: str, results: dict[str, FitResult], gains: dict[str, float],
@@ -80,5 +87,5 @@ def unlimited_member(fitter: FoldedFitter, winner: str, results: dict[str, FitRe
                                     contexts() if callable(contexts) else contexts, {**gains, plain: g}, noise)
     if not tie_keeps_global(winner, kept, tie, candidates):
         return None
-    return via, g, tie, (f"{plain} at {winner}'s strength, everywhere, gains {100 * g:.1f} % (its own fit "
+    return with_cost(fitter, via), g, tie, (f"{plain} at {winner}'s strength, everywhere, gains {100 * g:.1f} % (its own fit "
                          f"{100 * gains[plain]:.1f} %; {basis})")
