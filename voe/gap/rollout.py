@@ -77,6 +77,25 @@ def run_many(scene: SceneSpec, starts: list[tuple[np.ndarray, np.ndarray]], time
         return _run_many(scene, starts, times, substep, effect, params, kick_every)
 
 
+def run_many_recorded(scene: SceneSpec, starts: list[tuple[np.ndarray, np.ndarray]], times: list[np.ndarray],
+                      substep: float, effect: Effect | None, params: np.ndarray | None,
+                      kick_every: float = KICK_EVERY) -> tuple[list[np.ndarray], list[np.ndarray], Materials | None]:
+    """``run_many`` of ``effect`` with its region materials (set per contact) left out, and the
+    contacts they would have been set for.
+
+    Returns:
+        Poses (T_i, B, 3) per window; per window the contacts (N_i, 3) as ``SimWorld`` records
+        them; and the full materials, for ``voe.sim.scenefile.region_inert``: where that holds,
+        a window's poses are exactly ``run_many``'s with the region materials.
+    """
+    mats = effect.materials(params, scene) if effect is not None else None
+    bare = replace(mats, region_elasticity=None, region_friction=None) if mats is not None else None
+    records: list[list] = [[] for _ in starts]
+    with _collector_paused():
+        poses = _run_many(scene, starts, times, substep, effect, params, kick_every, bare, records)
+    return poses, [np.array(r, dtype=float).reshape(-1, 3) for r in records], mats
+
+
 @contextlib.contextmanager
 def _collector_paused() -> Iterator[None]:
     """Python's cyclic garbage collector off for one batch of rollouts, then back as it was.
@@ -97,9 +116,14 @@ def _collector_paused() -> Iterator[None]:
 
 
 def _run_many(scene: SceneSpec, starts: list[tuple[np.ndarray, np.ndarray]], times: list[np.ndarray],
-              substep: float, effect: Effect | None, params: np.ndarray | None, kick_every: float) -> list[np.ndarray]:
-    mats: Materials | None = effect.materials(params, scene) if effect is not None else None
-    worlds = [SimWorld(scene, pose0, vel0, mats) for pose0, vel0 in starts]
+              substep: float, effect: Effect | None, params: np.ndarray | None, kick_every: float,
+              mats: Materials | None = None, records: list[list] | None = None) -> list[np.ndarray]:
+    """``run_many``; ``mats`` in place of the effect's materials, ``records`` one contact list per
+    window (``SimWorld``'s ``contacts``)."""
+    if mats is None and records is None:
+        mats = effect.materials(params, scene) if effect is not None else None
+    worlds = [SimWorld(scene, pose0, vel0, mats, None if records is None else records[i])
+              for i, (pose0, vel0) in enumerate(starts)]
     if not worlds:
         return []
     groups = [list(range(len(worlds)))] if stackable(scene, effect) else [[i] for i in range(len(worlds))]

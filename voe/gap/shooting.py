@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from voe.gap.bare import Bare
 from voe.gap.effects.base import Effect
 from voe.gap.recordings import Episode
 from voe.gap.rollout import run_many
@@ -172,6 +173,7 @@ class Shooter:
         self.n_rollouts = 0  # windows asked for (one found in the memo counts too: the count does not depend on processes)
         self.n_memo = 0  # of which taken from the memo
         self._memo: OrderedDict[tuple, np.ndarray] = OrderedDict()
+        self.bare = Bare()  # windows a region material cannot touch (voe.gap.bare)
 
     def initial(self, ep: int, k: int) -> tuple[np.ndarray, np.ndarray, float]:
         key = (ep, k)
@@ -210,16 +212,23 @@ class Shooter:
                 out[i] = hit.copy()
                 self.n_memo += 1
         if todo:
-            sub = [wins[i] for i in todo]
-            starts = [self.initial(w.ep, w.k0)[:2] for w in sub]
-            times = [self.episodes[w.ep].t[w.k0:w.k1 + 1] for w in sub]
-            for i, pose in zip(todo, run_many(self.scene, starts, times, self.substep, effect, params), strict=True):
+            for i, pose in zip(todo, self.bare.simulate(self, [wins[i] for i in todo], effect, params, key),
+                               strict=True):
                 out[i] = pose
                 if key is not None:
                     memo[keys[i]] = pose.copy()
             while len(self._memo) > MEMO:
                 self._memo.popitem(last=False)
         return out  # type: ignore[return-value]
+
+    def starts_times(self, wins: list[Window]) -> tuple[list[tuple[np.ndarray, np.ndarray]], list[np.ndarray]]:
+        """Each window's start (pose (B, 3), velocity (B, 3)) and sample times (n_i,)."""
+        return ([self.initial(w.ep, w.k0)[:2] for w in wins],  # type: ignore[misc]
+                [self.episodes[w.ep].t[w.k0:w.k1 + 1] for w in wins])
+
+    def run(self, wins: list[Window], effect: Effect | None, params: np.ndarray | None) -> list[np.ndarray]:
+        """Poses (n_i, B, 3) of every window, all simulated (no memo)."""
+        return run_many(self.scene, *self.starts_times(wins), self.substep, effect, params)
 
     def residual(self, win: Window, effect: Effect | None, params: np.ndarray | None) -> np.ndarray:
         """Prediction minus recording, (n, B, 3), angle converted to metres by sqrt(I/m)."""

@@ -148,7 +148,11 @@ class SimWorld:
     """
 
     def __init__(self, scene: SceneSpec, pose: np.ndarray, vel: np.ndarray,
-                 materials: Materials | None = None) -> None:
+                 materials: Materials | None = None, contacts: list | None = None) -> None:
+        """Build the space. ``contacts``: a list that every contact with a static segment that a
+        region material would be set for (``_region_pre``'s contacts) is appended to, as (x of the
+        contact point, the segment's friction, its elasticity), while nothing is changed; only
+        for a world without region materials (``region_inert``)."""
         self.scene = scene
         mat = materials or Materials()
         self.space = pymunk.Space()
@@ -178,12 +182,21 @@ class SimWorld:
             lib.cpShapeSetElasticity(seg._shape, st.elasticity)  # noqa: SLF001
             lib.cpShapeSetCollisionType(seg._shape, _STATIC)  # noqa: SLF001
             self.space.add(seg)
-        if mat.region_elasticity is not None or mat.region_friction is not None:  # chipmunk's own handler (_region_pre)
+        has_region = mat.region_elasticity is not None or mat.region_friction is not None
+        if has_region and contacts is not None:
+            raise ValueError("SimWorld: contacts are recorded only without region materials")
+        if has_region:  # chipmunk's own handler (_region_pre)
             nan3 = (math.nan,) * 3  # a NaN value: that material is not set per contact
             region = ffi.new("double[6]", (*(mat.region_elasticity or nan3), *(mat.region_friction or nan3)))
             self.space._voe_region = region  # lives as long as the space that points at it
             handler = lib.cpSpaceAddCollisionHandler(self.space._space, _STATIC, _WILDCARD)  # noqa: SLF001
-            handler.preSolveFunc, handler.userData = _region_pre, region
+            pre = _region_pre if mat.region_elasticity is not None and mat.region_friction is not None else \
+                _region_pre_u if mat.region_friction is not None else _region_pre_e
+            handler.preSolveFunc, handler.userData = pre, region
+        elif contacts is not None:
+            self.space._voe_contacts = keep = ffi.new_handle(contacts)  # alive as long as the space
+            handler = lib.cpSpaceAddCollisionHandler(self.space._space, _STATIC, _WILDCARD)  # noqa: SLF001
+            handler.preSolveFunc, handler.userData = _region_record, keep
         index = {n: i for i, n in enumerate(scene.names)}
         for js in scene.joints:
             other = self.space.static_body if js.b is None else self.bodies[index[js.b]]
@@ -309,6 +322,109 @@ def _region_pre(arb: object, space: object, data: object, cast=ffi.cast, exp=mat
             else:
                 seg_e = elasticity(seg)
                 arb.e = elasticity(other) * (seg_e + w * (p[0] - seg_e))
+
+
+@ffi.callback("void(cpArbiter *, cpSpace *, void *)")
+def _region_pre_u(arb: object, space: object, data: object, cast=ffi.cast, exp=math.exp,
+                  cached=lib.CP_ARBITER_STATE_CACHED, position=lib.cpBodyGetPosition,
+                  friction=lib.cpShapeGetFriction) -> None:
+    """``_region_pre`` of a space with ``region_friction`` only: the same arithmetic, without
+    the test and loop for the material that is not set (a friction patch's start screen makes
+    millions of these calls)."""
+    if arb.state == cached or not arb.count:
+        return
+    p = cast("double *", data)
+    if arb.swapped:
+        seg, other = arb.b, arb.a
+        x = position(arb.body_b).x + arb.contacts[0].r2.x
+    else:
+        seg, other = arb.a, arb.b
+        x = position(arb.body_a).x + arb.contacts[0].r1.x
+    v = (x - p[4]) / 0.01
+    v = v if v < 50.0 else 50.0
+    v = v if v > -50.0 else -50.0
+    w = 1.0 / (1.0 + exp(-v))
+    v = (p[5] - x) / 0.01
+    v = v if v < 50.0 else 50.0
+    v = v if v > -50.0 else -50.0
+    w /= 1.0 + exp(-v)
+    seg_u = friction(seg)
+    arb.u = friction(other) * (seg_u + w * (p[3] - seg_u))
+
+
+@ffi.callback("void(cpArbiter *, cpSpace *, void *)")
+def _region_pre_e(arb: object, space: object, data: object, cast=ffi.cast, exp=math.exp,
+                  cached=lib.CP_ARBITER_STATE_CACHED, position=lib.cpBodyGetPosition,
+                  elasticity=lib.cpShapeGetElasticity) -> None:
+    """``_region_pre`` of a space with ``region_elasticity`` only (as ``_region_pre_u``)."""
+    if arb.state == cached or not arb.count:
+        return
+    p = cast("double *", data)
+    if arb.swapped:
+        seg, other = arb.b, arb.a
+        x = position(arb.body_b).x + arb.contacts[0].r2.x
+    else:
+        seg, other = arb.a, arb.b
+        x = position(arb.body_a).x + arb.contacts[0].r1.x
+    v = (x - p[1]) / 0.01
+    v = v if v < 50.0 else 50.0
+    v = v if v > -50.0 else -50.0
+    w = 1.0 / (1.0 + exp(-v))
+    v = (p[2] - x) / 0.01
+    v = v if v < 50.0 else 50.0
+    v = v if v > -50.0 else -50.0
+    w /= 1.0 + exp(-v)
+    seg_e = elasticity(seg)
+    arb.e = elasticity(other) * (seg_e + w * (p[0] - seg_e))
+
+
+@ffi.callback("void(cpArbiter *, cpSpace *, void *)")
+def _region_record(arb: object, space: object, data: object, cached=lib.CP_ARBITER_STATE_CACHED,
+                   position=lib.cpBodyGetPosition, elasticity=lib.cpShapeGetElasticity,
+                   friction=lib.cpShapeGetFriction, from_handle=ffi.from_handle) -> None:
+    """pre_solve of a space built with ``contacts``: appends what ``_region_pre`` would read of
+    each contact it sets a material for (the same contacts, the same x), changing nothing."""
+    if arb.state == cached or not arb.count:
+        return
+    if arb.swapped:
+        seg, x = arb.b, position(arb.body_b).x + arb.contacts[0].r2.x
+    else:
+        seg, x = arb.a, position(arb.body_a).x + arb.contacts[0].r1.x
+    from_handle(data).append((x, friction(seg), elasticity(seg)))
+
+
+def region_weight(x: np.ndarray, x0: float, x1: float) -> np.ndarray:
+    """(N,) ``_region_pre``'s weight of the region [x0, x1] at contact points x (N,), in numpy
+    (its exponentials may differ from ``math.exp``'s in the last bit)."""
+    a = np.minimum(np.maximum((x - x0) / 0.01, -50.0), 50.0)
+    b = np.minimum(np.maximum((x1 - x) / 0.01, -50.0), 50.0)
+    return 1.0 / (1.0 + np.exp(-a)) / (1.0 + np.exp(-b))
+
+
+def region_inert(contacts: np.ndarray, materials: Materials) -> bool:
+    """Whether ``materials``' region materials leave a rollout exactly as it was without them,
+    given ``contacts`` (N, 3) recorded by a world built without them (``SimWorld(contacts=...)``).
+
+    Why this is exact: the two rollouts are the same until ``_region_pre`` first sets a
+    coefficient other than chipmunk's own (the product of the two shapes'), and it sets
+    ``other * (seg + w * (v - seg))``, which is ``other * seg`` to the bit when ``w * (v - seg)``
+    is below half a unit in the last place of ``seg``. If that holds at every recorded contact
+    (held to a quarter, so a last-bit difference of ``w`` cannot matter; a zero coefficient
+    never passes), no contact is set differently, and by induction over the substeps the
+    rollouts are the same: the same contacts at the same points. A window far from a patch
+    (most windows, for most of a region fit's starting intervals) need not be simulated again.
+    """
+    if materials.region_elasticity is None and materials.region_friction is None:
+        return True
+    x = contacts[:, 0]  # (N,)
+    for region, seg in ((materials.region_friction, contacts[:, 1]), (materials.region_elasticity, contacts[:, 2])):
+        if region is None or not len(x):
+            continue
+        v, x0, x1 = region
+        moved = np.abs(region_weight(x, x0, x1) * (v - seg))  # (N,)
+        if not bool(np.all((seg > 0) & (moved < np.spacing(seg) / 4))):  # NaN fails too
+            return False
+    return True
 
 
 @functools.lru_cache(maxsize=256)
