@@ -231,13 +231,14 @@ class Fitter:
         start that reproduces the model (zero strength, ``mass``'s ratio 1) costs exactly as much
         and is left alone.
         """
-        if self.cost(effect, x0) <= self.cost(EffectSum(effect.parts[:-1]), x0[:-1]):
+        c0 = self.cost(effect, x0)
+        if c0 <= self.cost(EffectSum(effect.parts[:-1]), x0[:-1]):
             return x0
         grid = scalar_grid(effect, x0[-1:], lo[-1:], hi[-1:], scale[-1:])
         points = [np.concatenate([x0[:-1], [g]]) for g in grid]  # (G, P)
         costs = [self.cost(effect, x) for x in points]
         i = int(np.argmin(costs))
-        return points[i] if costs[i] < self.cost(effect, x0) else x0
+        return points[i] if costs[i] < c0 else x0
 
     def _scalar(self, effect, x0, lo, hi, scale, nfev) -> tuple[np.ndarray, float, bool]:
         """Grid, then bounded Brent between the best grid point's neighbours; a minimum at the
