@@ -186,13 +186,12 @@ class SimWorld:
         if has_region and contacts is not None:
             raise ValueError("SimWorld: contacts are recorded only without region materials")
         if has_region:  # chipmunk's own handler (_region_pre)
-            nan3 = (math.nan,) * 3  # a NaN value: that material is not set per contact
+            nan3 = (math.nan,) * 3  # a material not set (not read by its pre_solve)
             region = ffi.new("double[6]", (*(mat.region_elasticity or nan3), *(mat.region_friction or nan3)))
             self.space._voe_region = region  # lives as long as the space that points at it
             handler = lib.cpSpaceAddCollisionHandler(self.space._space, _STATIC, _WILDCARD)  # noqa: SLF001
-            pre = _region_pre if mat.region_elasticity is not None and mat.region_friction is not None else \
-                _region_pre_u if mat.region_friction is not None else _region_pre_e
-            handler.preSolveFunc, handler.userData = pre, region
+            ks = (0,) * (mat.region_elasticity is not None) + (3,) * (mat.region_friction is not None)
+            handler.preSolveFunc, handler.userData = _REGION_PRE[ks], region
         elif contacts is not None:
             self.space._voe_contacts = keep = ffi.new_handle(contacts)  # alive as long as the space
             handler = lib.cpSpaceAddCollisionHandler(self.space._space, _STATIC, _WILDCARD)  # noqa: SLF001
@@ -276,16 +275,14 @@ _STATIC = 1  # collision type of static segments
 _WILDCARD = int(ffi.cast("uintptr_t", ~0))  # chipmunk's CP_WILDCARD_COLLISION_TYPE (what pymunk passes for None)
 
 
-@ffi.callback("void(cpArbiter *, cpSpace *, void *)")
-def _region_pre(arb: object, space: object, data: object, cast=ffi.cast, exp=math.exp,
-                cached=lib.CP_ARBITER_STATE_CACHED, position=lib.cpBodyGetPosition,
-                elasticity=lib.cpShapeGetElasticity, friction=lib.cpShapeGetFriction) -> None:
-    """pre_solve of a space built with ``Materials.region_elasticity`` or ``region_friction``:
-    restitution (friction) of a contact with a static segment, blended from the segment's
-    elasticity (friction) to ``e`` (``u``) inside [x0, x1] (smooth edges keep a fit of x0, x1
-    smooth); ``data`` points at the world's (e, x0, x1, u, ux0, ux1), NaN where not set.
-    Chipmunk sets the arbiter's ``e`` and ``u`` from the two shapes before every pre_solve, so
-    what is set here holds for this step only, as pymunk's ``Arbiter.friction`` setter does.
+def _region_pre(ks: tuple[int, ...]) -> object:
+    """The pre_solve of a space built with ``Materials.region_elasticity`` (``ks`` holds 0) or
+    ``region_friction`` (``ks`` holds 3), or both: restitution (friction) of a contact with a
+    static segment, blended from the segment's elasticity (friction) to ``e`` (``u``) inside
+    [x0, x1] (smooth edges keep a fit of x0, x1 smooth); ``data`` points at the world's
+    (e, x0, x1, u, ux0, ux1). Chipmunk sets the arbiter's ``e`` and ``u`` from the two shapes
+    before every pre_solve, so what is set here holds for this step only, as pymunk's
+    ``Arbiter.friction`` setter does.
 
     Why this form: it runs at every substep of every resting contact (about 1700 calls per
     simulated second of a ball and a box on the floor), and registered through
@@ -295,19 +292,24 @@ def _region_pre(arb: object, space: object, data: object, cast=ffi.cast, exp=mat
     ``pointA`` of ``cpArbiterGetContactPointSet`` (the static segment's side, in the handler's
     order: the arbiter's second shape when it is swapped), and ``cpArbiterSetRestitution`` (``SetFriction``). The
     clip of the edge terms keeps ``max(-50, min(50, v))``'s semantics. Same values to the bit
-    (``tests/gap/test_lockstep.py``).
+    (``tests/gap/test_lockstep.py``). One function per set of materials, so a call tests
+    nothing about the material that is not set (a patch's start screen makes millions of calls).
     """
-    if arb.state == cached or not arb.count:
-        return
-    p = cast("double *", data)
-    if arb.swapped:
-        seg, other = arb.b, arb.a
-        x = position(arb.body_b).x + arb.contacts[0].r2.x
-    else:
-        seg, other = arb.a, arb.b
-        x = position(arb.body_a).x + arb.contacts[0].r1.x
-    for k in (0, 3):  # p[0]: restitution, p[3]: friction; NaN (p[k] != p[k]): not set per contact
-        if p[k] == p[k]:
+
+    @ffi.callback("void(cpArbiter *, cpSpace *, void *)")
+    def pre(arb: object, space: object, data: object, cast=ffi.cast, exp=math.exp,
+            cached=lib.CP_ARBITER_STATE_CACHED, position=lib.cpBodyGetPosition,
+            elasticity=lib.cpShapeGetElasticity, friction=lib.cpShapeGetFriction, ks=ks) -> None:
+        if arb.state == cached or not arb.count:
+            return
+        p = cast("double *", data)
+        if arb.swapped:
+            seg, other = arb.b, arb.a
+            x = position(arb.body_b).x + arb.contacts[0].r2.x
+        else:
+            seg, other = arb.a, arb.b
+            x = position(arb.body_a).x + arb.contacts[0].r1.x
+        for k in ks:  # p[0]: restitution, p[3]: friction
             v = (x - p[k + 1]) / 0.01
             v = v if v < 50.0 else 50.0
             v = v if v > -50.0 else -50.0
@@ -323,59 +325,10 @@ def _region_pre(arb: object, space: object, data: object, cast=ffi.cast, exp=mat
                 seg_e = elasticity(seg)
                 arb.e = elasticity(other) * (seg_e + w * (p[0] - seg_e))
 
-
-@ffi.callback("void(cpArbiter *, cpSpace *, void *)")
-def _region_pre_u(arb: object, space: object, data: object, cast=ffi.cast, exp=math.exp,
-                  cached=lib.CP_ARBITER_STATE_CACHED, position=lib.cpBodyGetPosition,
-                  friction=lib.cpShapeGetFriction) -> None:
-    """``_region_pre`` of a space with ``region_friction`` only: the same arithmetic, without
-    the test and loop for the material that is not set (a friction patch's start screen makes
-    millions of these calls)."""
-    if arb.state == cached or not arb.count:
-        return
-    p = cast("double *", data)
-    if arb.swapped:
-        seg, other = arb.b, arb.a
-        x = position(arb.body_b).x + arb.contacts[0].r2.x
-    else:
-        seg, other = arb.a, arb.b
-        x = position(arb.body_a).x + arb.contacts[0].r1.x
-    v = (x - p[4]) / 0.01
-    v = v if v < 50.0 else 50.0
-    v = v if v > -50.0 else -50.0
-    w = 1.0 / (1.0 + exp(-v))
-    v = (p[5] - x) / 0.01
-    v = v if v < 50.0 else 50.0
-    v = v if v > -50.0 else -50.0
-    w /= 1.0 + exp(-v)
-    seg_u = friction(seg)
-    arb.u = friction(other) * (seg_u + w * (p[3] - seg_u))
+    return pre
 
 
-@ffi.callback("void(cpArbiter *, cpSpace *, void *)")
-def _region_pre_e(arb: object, space: object, data: object, cast=ffi.cast, exp=math.exp,
-                  cached=lib.CP_ARBITER_STATE_CACHED, position=lib.cpBodyGetPosition,
-                  elasticity=lib.cpShapeGetElasticity) -> None:
-    """``_region_pre`` of a space with ``region_elasticity`` only (as ``_region_pre_u``)."""
-    if arb.state == cached or not arb.count:
-        return
-    p = cast("double *", data)
-    if arb.swapped:
-        seg, other = arb.b, arb.a
-        x = position(arb.body_b).x + arb.contacts[0].r2.x
-    else:
-        seg, other = arb.a, arb.b
-        x = position(arb.body_a).x + arb.contacts[0].r1.x
-    v = (x - p[1]) / 0.01
-    v = v if v < 50.0 else 50.0
-    v = v if v > -50.0 else -50.0
-    w = 1.0 / (1.0 + exp(-v))
-    v = (p[2] - x) / 0.01
-    v = v if v < 50.0 else 50.0
-    v = v if v > -50.0 else -50.0
-    w /= 1.0 + exp(-v)
-    seg_e = elasticity(seg)
-    arb.e = elasticity(other) * (seg_e + w * (p[0] - seg_e))
+_REGION_PRE = {ks: _region_pre(ks) for ks in ((0,), (3,), (0, 3))}  # materials set -> pre_solve
 
 
 @ffi.callback("void(cpArbiter *, cpSpace *, void *)")
