@@ -15,6 +15,9 @@ f = GapFinder(max_effects=3, seed=int(seed), config=GapConfig(), n_jobs=1).fit(c
 print("HIDDEN", getattr(case, "hidden", None), getattr(case, "params", None))
 for r in f.search_.result.rounds:
     print("ROUND", r.winner, r.group, "|", r.basis)
+    top = sorted(r.gains, key=lambda k: -r.gains[k])[:4]
+    print("   before", round(r.before * 1e3, 2), "mm; threshold", None if r.threshold is None else round(r.threshold, 4),
+          "; top gains", [(k, round(r.gains[k], 4), round(r.lower.get(k, float("nan")), 4)) for k in top])
 print("DROPPED", f.checked_.dropped)
 print("FIRST LOOK", f.first_look_)
 loc = f.location_
