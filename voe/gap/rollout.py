@@ -74,7 +74,8 @@ def run_many(scene: SceneSpec, starts: list[tuple[np.ndarray, np.ndarray]], time
     (``stackable``); its windows go one at a time.
     """
     with _collector_paused():
-        return _run_many(scene, starts, times, substep, effect, params, kick_every)
+        return _run_many(scene, starts, times, substep, effect, params, kick_every,
+                         effect.materials(params, scene) if effect is not None else None)
 
 
 def run_many_recorded(scene: SceneSpec, starts: list[tuple[np.ndarray, np.ndarray]], times: list[np.ndarray],
@@ -117,11 +118,10 @@ def _collector_paused() -> Iterator[None]:
 
 def _run_many(scene: SceneSpec, starts: list[tuple[np.ndarray, np.ndarray]], times: list[np.ndarray],
               substep: float, effect: Effect | None, params: np.ndarray | None, kick_every: float,
-              mats: Materials | None = None, records: list[list] | None = None) -> list[np.ndarray]:
-    """``run_many``; ``mats`` in place of the effect's materials, ``records`` one contact list per
-    window (``SimWorld``'s ``contacts``)."""
-    if mats is None and records is None:
-        mats = effect.materials(params, scene) if effect is not None else None
+              mats: Materials | None, records: list[list] | None = None) -> list[np.ndarray]:
+    """``run_many`` with the worlds built with ``mats`` (the effect's materials, or those without its
+    region materials) and, if ``records`` is given, one contact list per window (``SimWorld``'s
+    ``contacts``)."""
     worlds = [SimWorld(scene, pose0, vel0, mats, None if records is None else records[i])
               for i, (pose0, vel0) in enumerate(starts)]
     if not worlds:
