@@ -19,6 +19,7 @@ from voe.gap.bench_store import BenchStore
 from voe.gap.effects import EFFECTS
 from voe.gap.finder import GapConfig, GapFinder
 from voe.gap.recordings import Episode
+from voe.gap.search import Round
 from voe.gap.synth import ar1_noise, simulate_episode
 from voe.gap.truths import OUTSIDE, Gust, Hidden, compound_truths, hide, kind, scene_kind, single_truths
 from voe.parallel import parallel_map
@@ -239,7 +240,8 @@ def run_case(args: tuple) -> dict:
            "verdict": verdict, "located": len(finder.located_), "n_effects": len(effects),
            "dropped": [d["effect"] for d in finder.checked_.dropped],
            "null_strength": sum(_null_strength(e) for e in effects),
-           "before": finder.fit_["before"], "after": finder.fit_["after"]}
+           "before": finder.fit_["before"], "after": finder.fit_["after"],
+           "rounds": [round_record(r) for r in finder.rounds_]}
     try:
         out["expressed"] = expression(case, finder, noise)
     except Exception:  # a diagnostic of the bench, never a lost case
@@ -248,6 +250,19 @@ def run_case(args: tuple) -> dict:
         out["param_error"] = param_error(truth, case.params, effects[0], case.bodies)
         out["covered"] = _covered(truth, case.params, case.bodies, effects[0])
     return out
+
+
+def round_record(r: Round) -> list:
+    """[winner, group, threshold gain, basis] of one greedy round, as the bench stores it.
+
+    Why: a change to one path of the search (a provisional winner refused by the next round's,
+    ``voe.gap.greedy.Trial``) is judged on the cases that reach that path, and only a run of the
+    whole bench could find them when the stored record held the outcome alone. The basis says
+    which path a round took; the gains of every candidate (``Round.to_dict``) are left out, to
+    keep a store of 330 cases small enough to commit.
+    """
+    thr = None if r.threshold is None or not np.isfinite(r.threshold) else round(float(r.threshold), 4)
+    return [r.winner, list(r.group), thr, r.basis]
 
 
 MIN_CLEAN = 20  # clean cases a default run includes, so the false-discovery rate means something
