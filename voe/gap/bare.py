@@ -4,8 +4,8 @@ Why: a region material (``friction_region``, ``restitution_region``) is set per 
 Python pre-solve callback, which more than doubles a rollout's cost, and its fit tries many
 patches: 74 starting intervals ranked on every fitting window, then Powell moving the edges.
 Many windows touch the floor only far from a given patch, or not at all, and there a patch changes
-nothing to the bit (``voe.sim.scenefile.region_inert``); on ``bench/gap_speed.py``'s case 36 % of the
-region windows asked for (``docs/bench-runs/dev-s51``). So the windows are simulated once with
+nothing to the bit (``voe.sim.scenefile.region_inert``): on ``bench/gap_speed.py``'s case, 36 % of the
+region windows asked for are such windows (``docs/bench-runs/dev-s51``). So the windows are simulated once with
 the model's other parts and no patch, recording where they touch the floor; a window whose
 contacts a patch leaves exactly as they were is given those poses, the rest are simulated with
 the patch. The answers are the same to the bit (``tests/gap/test_bare.py``); only the cost falls.
