@@ -28,3 +28,15 @@ def test_a_stored_case_relocates_to_its_own_location_and_a_changed_one_is_refuse
     assert new["verdict"] == "consistent" and new["relocated"] > 0.5  # 0.87: one of session 28's misses
     with pytest.raises(DataError, match="location differs"):
         relocate({**r, "located": r["located"] + 1}, run)
+
+
+def test_a_store_made_before_the_second_bar_rescores_with_it():
+    """Seed 7241's untouched run (before ``locate_local``) left the gust 7241143 ``consistent`` with
+    nothing located; rescored, the second bar locates it, the stored count of the first bar's
+    stretches still matches, and the verdict is ``unexplained``."""
+    lines = (STORE.parent / "gap_bench_s52_seed7241.jsonl").read_text().splitlines()
+    run = json.loads(lines[0])["run"]
+    r = next(r for r in map(json.loads, lines[1:]) if r["seed"] == 7241143)
+    assert r["verdict"] == "consistent" and r["located"] == 0 and "located_local" not in r
+    new = relocate(r, run)
+    assert new["verdict"] == "unexplained" and new["located"] == new["located_local"] > 0

@@ -237,7 +237,9 @@ def run_case(args: tuple) -> dict:
     names = [e["name"] for e in effects]
     found = names[0] if names else "none"
     out = {**base, "found": found, "names": names, "group": finder.groups_[0] if finder.groups_ else [],
-           "verdict": verdict, "located": len(finder.located_), "n_effects": len(effects),
+           "verdict": verdict, "located": len(finder.located_),
+           "located_local": sum(x["bar"] == "local" for x in finder.located_),  # voe.gap.stages.locate_parts
+           "n_effects": len(effects),
            "dropped": [d["effect"] for d in finder.checked_.dropped],
            "null_strength": sum(_null_strength(e) for e in effects),
            "before": finder.fit_["before"], "after": finder.fit_["after"],

@@ -216,8 +216,10 @@ class GapFinder:
     def _z_bar(self) -> float:
         """The z the explanation lists stretches above: the clean replicate's largest window z, or
         its 95th percentile when no located stretch exceeds the largest (an unexplained verdict
-        then rests on the paired test over all windows)."""
-        if self.verdict_ == "unexplained" and not any(not x["z"] <= self.z_strong_ for x in self.located_):
+        then rests on the paired test over all windows) or the stretches were located against
+        their windows' own replicates (the bar they did not pass: ``voe.gap.stages.locate_parts``)."""
+        local = any(x["bar"] == "local" for x in self.located_)
+        if self.verdict_ == "unexplained" and (local or not any(not x["z"] <= self.z_strong_ for x in self.located_)):
             return self.z_threshold_
         return self.z_strong_
 

@@ -5,7 +5,9 @@ z-score per body and variable: the residual divided by what a correct model woul
 plus integrated velocity error, see ``Shooter.sigma_pred``). A binary-segmentation change-point
 search on each body's sequence of window log-z values splits an episode into stretches of
 constant misfit, and stretches whose median z exceeds a threshold calibrated on simulated clean
-data are reported with their context.
+data are reported with their context (``locate``). When none does but the data depart as a whole
+(``voe.gap.departure``), each window is held against its own window-local clean replicates
+instead (``locate_local``; why: ``voe.gap.stages.locate_parts``).
 """
 
 from __future__ import annotations
@@ -32,6 +34,12 @@ class Located:
     context: str
     z: float
     region: list[float]
+    # which bar located it: "clean" (the stretch's median window z above ``bar_z``, the clean
+    # replicate's 95th-percentile window z: ``locate``) or "local" (each of its windows above every
+    # one of that window's own window-local clean replicates and z_min; ``bar_z`` is the largest of
+    # those bars over the stretch: ``locate_local``)
+    bar: str = "clean"
+    bar_z: float = float("nan")
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -79,9 +87,8 @@ def locate(shooter: Shooter, windows: list[Window], z: np.ndarray, z_thr: float)
     found: list[Located] = []
     for ep_i in sorted({w.ep for w in windows}):
         idx = [i for i, w in enumerate(windows) if w.ep == ep_i]
-        ep = episodes[ep_i]
-        labels = frame_labels(scene, ep)  # (T, B)
-        for b, name in enumerate(scene.names):
+        labels = frame_labels(scene, episodes[ep_i])  # (T, B)
+        for b in range(len(scene.names)):
             zb = z[idx, b]  # (n, 3)
             s = np.log(np.maximum(zb.max(axis=1), 1e-3))
             noise = 1.4826 * np.median(np.abs(np.diff(s))) / np.sqrt(2) if len(s) > 2 else 1.0
@@ -93,8 +100,45 @@ def locate(shooter: Shooter, windows: list[Window], z: np.ndarray, z_thr: float)
                     continue
                 med = np.median(seg, axis=0)
                 vars_ = [v for v, m in zip(VARS, med, strict=True) if m > z_thr] or [VARS[int(np.argmax(med))]]
-                w0, w1 = windows[idx[i]], windows[idx[j - 1]]
-                ctx, region = summarize(labels[w0.k0:w1.k1 + 1, b], ep.pose[w0.k0:w1.k1 + 1, b])
-                found.append(Located(ep.id, name, float(ep.t[w0.k0]), float(ep.t[w1.k1]), vars_, ctx,
-                                     round(zmed, 2), [round(r, 4) for r in region]))
+                found.append(_stretch(shooter, windows, idx[i:j], b, labels, vars_, zmed, "clean", z_thr))
     return found
+
+
+def locate_local(shooter: Shooter, windows: list[Window], z: np.ndarray, bars: np.ndarray) -> list[Located]:
+    """Stretches of back-to-back windows where a body's largest z of ``z`` (W, B, 3) exceeds the
+    window's own bar ``bars`` (W,): each window held against the clean replicates of that window,
+    not one threshold for all (why and when: ``voe.gap.stages.locate_parts``). A stretch's z is
+    the median of its windows' z, its variables those whose median exceeds its largest bar."""
+    scene, episodes = shooter.scene, shooter.episodes
+    found: list[Located] = []
+    for ep_i in sorted({w.ep for w in windows}):
+        idx = [i for i, w in enumerate(windows) if w.ep == ep_i]
+        labels = frame_labels(scene, episodes[ep_i])  # (T, B)
+        for b in range(len(scene.names)):
+            above = z[idx, b].max(axis=1) > bars[idx]  # (n,)
+            k = 0
+            while k < len(idx):
+                if not above[k]:
+                    k += 1
+                    continue
+                j = k
+                while j < len(idx) and above[j]:
+                    j += 1
+                seg, bar = z[idx[k:j], b], float(np.max(bars[idx[k:j]]))  # (m, 3)
+                med = np.median(seg, axis=0)
+                vars_ = [v for v, m in zip(VARS, med, strict=True) if m > bar] or [VARS[int(np.argmax(med))]]
+                found.append(_stretch(shooter, windows, idx[k:j], b, labels, vars_,
+                                      float(np.median(seg.max(axis=1))), "local", bar))
+                k = j
+    return found
+
+
+def _stretch(shooter: Shooter, windows: list[Window], idx: list[int], b: int, labels: np.ndarray,
+             variables: list[str], z: float, bar: str, bar_z: float) -> Located:
+    """The ``Located`` of body ``b`` over back-to-back windows ``idx`` of one episode, with the
+    context and region of its frames (``labels`` (T, B): that episode's frame labels)."""
+    w0, w1 = windows[idx[0]], windows[idx[-1]]
+    ep = shooter.episodes[w0.ep]
+    ctx, region = summarize(labels[w0.k0:w1.k1 + 1, b], ep.pose[w0.k0:w1.k1 + 1, b])
+    return Located(ep.id, shooter.scene.names[b], float(ep.t[w0.k0]), float(ep.t[w1.k1]), variables, ctx,
+                   round(z, 2), [round(r, 4) for r in region], bar, round(bar_z, 2))

@@ -104,6 +104,13 @@ def figures(finder, out: Path) -> list[str]:
     return ["trajectories.png", "residual.png"]
 
 
+def _bar(x: dict) -> str:
+    """The bar a located stretch passed, in words (``voe.gap.locate.Located.bar``)."""
+    if x["bar"] == "local":
+        return f"{x['bar_z']:.1f}: each window above its own clean replicates and z_min"
+    return f"{x['bar_z']:.1f}: the clean replicate's 95th-percentile window z"
+
+
 def markdown(finder, figs: list[str]) -> str:
     """The text of ``gap.md``."""
     f = finder.fit_
@@ -129,10 +136,10 @@ def markdown(finder, figs: list[str]) -> str:
         lines.append(f"\nDropped {d['effect']}: {d['reason']}.")
     lines += ["", "## Located", ""]
     if finder.located_:
-        lines += ["| episode | body | t (s) | variables | context | z |", "|---|---|---|---|---|---|"]
+        lines += ["| episode | body | t (s) | variables | context | z | bar passed |", "|---|---|---|---|---|---|---|"]
         for x in finder.located_[:40]:
             lines.append(f"| {x['episode']} | {x['body']} | {x['t_start']:.2f}-{x['t_end']:.2f} | "
-                         f"{', '.join(x['variables'])} | {x['context']} | {x['z']:.1f} |")
+                         f"{', '.join(x['variables'])} | {x['context']} | {x['z']:.1f} | {_bar(x)} |")
         if len(finder.located_) > 40:
             lines.append(f"\n... and {len(finder.located_) - 40} more in gap.json.")
     else:
