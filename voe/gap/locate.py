@@ -12,6 +12,7 @@ instead (``locate_local``; why: ``voe.gap.stages.locate_parts``).
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import asdict, dataclass
 
 import numpy as np
@@ -83,24 +84,20 @@ def change_points(s: np.ndarray, penalty: float) -> list[tuple[int, int]]:
 
 def locate(shooter: Shooter, windows: list[Window], z: np.ndarray, z_thr: float) -> list[Located]:
     """Turn window z-scores (W, B, 3) into located stretches above ``z_thr``."""
-    scene, episodes = shooter.scene, shooter.episodes
     found: list[Located] = []
-    for ep_i in sorted({w.ep for w in windows}):
-        idx = [i for i, w in enumerate(windows) if w.ep == ep_i]
-        labels = frame_labels(scene, episodes[ep_i])  # (T, B)
-        for b in range(len(scene.names)):
-            zb = z[idx, b]  # (n, 3)
-            s = np.log(np.maximum(zb.max(axis=1), 1e-3))
-            noise = 1.4826 * np.median(np.abs(np.diff(s))) / np.sqrt(2) if len(s) > 2 else 1.0
-            penalty = 2.0 * max(noise, 0.1) ** 2 * np.log(max(len(s), 2)) * 2
-            for i, j in change_points(s, penalty):
-                seg = zb[i:j]  # (m, 3)
-                zmed = float(np.median(seg.max(axis=1)))
-                if zmed <= z_thr:
-                    continue
-                med = np.median(seg, axis=0)
-                vars_ = [v for v, m in zip(VARS, med, strict=True) if m > z_thr] or [VARS[int(np.argmax(med))]]
-                found.append(_stretch(shooter, windows, idx[i:j], b, labels, vars_, zmed, "clean", z_thr))
+    for idx, labels, b in _tracks(shooter, windows):
+        zb = z[idx, b]  # (n, 3)
+        s = np.log(np.maximum(zb.max(axis=1), 1e-3))
+        noise = 1.4826 * np.median(np.abs(np.diff(s))) / np.sqrt(2) if len(s) > 2 else 1.0
+        penalty = 2.0 * max(noise, 0.1) ** 2 * np.log(max(len(s), 2)) * 2
+        for i, j in change_points(s, penalty):
+            seg = zb[i:j]  # (m, 3)
+            zmed = float(np.median(seg.max(axis=1)))
+            if zmed <= z_thr:
+                continue
+            med = np.median(seg, axis=0)
+            vars_ = [v for v, m in zip(VARS, med, strict=True) if m > z_thr] or [VARS[int(np.argmax(med))]]
+            found.append(_stretch(shooter, windows, idx[i:j], b, labels, vars_, zmed, "clean", z_thr))
     return found
 
 
@@ -109,28 +106,34 @@ def locate_local(shooter: Shooter, windows: list[Window], z: np.ndarray, bars: n
     window's own bar ``bars`` (W,): each window held against the clean replicates of that window,
     not one threshold for all (why and when: ``voe.gap.stages.locate_parts``). A stretch's z is
     the median of its windows' z, its variables those whose median exceeds its largest bar."""
-    scene, episodes = shooter.scene, shooter.episodes
     found: list[Located] = []
+    for idx, labels, b in _tracks(shooter, windows):
+        above = z[idx, b].max(axis=1) > bars[idx]  # (n,)
+        k = 0
+        while k < len(idx):
+            if not above[k]:
+                k += 1
+                continue
+            j = k
+            while j < len(idx) and above[j]:
+                j += 1
+            seg, bar = z[idx[k:j], b], float(np.max(bars[idx[k:j]]))  # (m, 3)
+            med = np.median(seg, axis=0)
+            vars_ = [v for v, m in zip(VARS, med, strict=True) if m > bar] or [VARS[int(np.argmax(med))]]
+            found.append(_stretch(shooter, windows, idx[k:j], b, labels, vars_,
+                                  float(np.median(seg.max(axis=1))), "local", bar))
+            k = j
+    return found
+
+
+def _tracks(shooter: Shooter, windows: list[Window]) -> Iterator[tuple[list[int], np.ndarray, int]]:
+    """Each episode's window indices in ``windows``, its frame labels (T, B) and a body index, for
+    every episode and body: the sequences both bars scan."""
     for ep_i in sorted({w.ep for w in windows}):
         idx = [i for i, w in enumerate(windows) if w.ep == ep_i]
-        labels = frame_labels(scene, episodes[ep_i])  # (T, B)
-        for b in range(len(scene.names)):
-            above = z[idx, b].max(axis=1) > bars[idx]  # (n,)
-            k = 0
-            while k < len(idx):
-                if not above[k]:
-                    k += 1
-                    continue
-                j = k
-                while j < len(idx) and above[j]:
-                    j += 1
-                seg, bar = z[idx[k:j], b], float(np.max(bars[idx[k:j]]))  # (m, 3)
-                med = np.median(seg, axis=0)
-                vars_ = [v for v, m in zip(VARS, med, strict=True) if m > bar] or [VARS[int(np.argmax(med))]]
-                found.append(_stretch(shooter, windows, idx[k:j], b, labels, vars_,
-                                      float(np.median(seg.max(axis=1))), "local", bar))
-                k = j
-    return found
+        labels = frame_labels(shooter.scene, shooter.episodes[ep_i])  # (T, B)
+        for b in range(len(shooter.scene.names)):
+            yield idx, labels, b
 
 
 def _stretch(shooter: Shooter, windows: list[Window], idx: list[int], b: int, labels: np.ndarray,
