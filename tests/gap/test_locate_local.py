@@ -51,7 +51,7 @@ def test_the_explanation_says_which_bar_located_a_stretch():
          "z": 14.2, "region": [0.1, 0.4, 0.0, 0.1], "bar": "local", "bar_z": 9.3}
     text = explain("unexplained", [], [], [x], ver, 0.08, np.full((1, 3), 1e-3), "test", 21.2, departure_p=4e-4)
     assert "each of these windows is above every window-local clean replicate" in text
-    assert "bar 9.3" in text and "21.2" in text
+    assert "bar 9.3" in text and "21.2" in text and "z = 5;" in text
     clean = {**x, "z": 30.0, "bar": "clean", "bar_z": 21.2}
     text = explain("unexplained", [], [], [clean], ver, 0.08, np.full((1, 3), 1e-3), "test", 21.2, departure_p=4e-4)
     assert "1 located stretch(es) (z above 21.2)" in text and "window-local" not in text

@@ -230,7 +230,7 @@ class GapFinder:
         text = explain(self.verdict_, self.effects_, self.groups_, self.located_, self.checked_.verification,
                        self.threshold_, self.problem_.sigma, self.checked_.test_note, self._z_bar(),
                        self.checked_.dropped, best, [r.tie for r in self._kept_rounds()],
-                       self.location_.departure_p)
+                       self.location_.departure_p, self.config.z_min)
         if self.first_look_ is not None:
             first = self.first_look_
             text += (f" (Second look: the three-way split named nothing (verdict {first['verdict']}), so the finder "

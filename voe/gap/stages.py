@@ -81,7 +81,7 @@ class Location:
     """Where the recordings leave the nominal model, with the clean replicate that calibrated it."""
 
     windows: list[Window]
-    located: list[dict]
+    located: list[dict]  # ``Located.to_dict()``; ``bar`` says which bar located each (``locate_parts``)
     z_threshold: float
     z_strong: float  # the clean replicate's largest window z: beyond it a stretch is a mismatch
     null_episodes: list[Episode]

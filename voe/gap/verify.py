@@ -123,8 +123,10 @@ def _spread(departure_p: float | None) -> str:
 def explain(verdict: str, effects: list[dict], groups: list[list[str]], located: list[dict], ver: Verification,
             threshold: float, sigma: np.ndarray, test_note: str, z_strong: float, dropped: tuple[dict, ...] = (),
             best: tuple[str, float] | None = None, ties: list[TieBreak | None] | None = None,
-            departure_p: float | None = None) -> str:
-    """A short paragraph with the numbers that matter; it never claims agreement next to a mismatch."""
+            departure_p: float | None = None, z_floor: float = 5.0) -> str:
+    """A short paragraph with the numbers that matter; it never claims agreement next to a mismatch.
+    ``z_floor``: the location's floor (``GapConfig.z_min``), which a window located against its own
+    replicates must pass too."""
     noise_mm = 1e3 * float(np.median(sigma[:, :2]))
     tail = "".join(f" {d['effect']} was dropped: {d['reason']}." for d in dropped)
     if verdict == "consistent":
@@ -150,8 +152,8 @@ def explain(verdict: str, effects: list[dict], groups: list[list[str]], located:
         if local:  # nothing passed the one bar: each window was held against its own clean replicates
             where = (f"{len(local)} stretch(es) located window by window (no stretch's median window z passed the "
                      f"clean replicate's 95th-percentile window z, {z_strong:.1f}, but each of these windows is above "
-                     f"every window-local clean replicate of it and z_min; a stretch's bar is the largest of these "
-                     f"over its windows): {_where(local)}")
+                     f"every window-local clean replicate of it and z = {z_floor:g}; a stretch's bar is the largest of "
+                     f"these over its windows): {_where(local)}")
         else:
             strong = [x for x in located if not x["z"] <= z_strong]
             where = f"{len(strong)} located stretch(es) (z above {z_strong:.1f}): {_where(strong)}"
