@@ -18,6 +18,7 @@ from voe.gap.bench_pendulum import double_pendulum_scene, random_start
 from voe.gap.bench_store import BenchStore
 from voe.gap.effects import EFFECTS
 from voe.gap.finder import GapConfig, GapFinder
+from voe.gap.locate import LOCAL, by_bar
 from voe.gap.recordings import Episode
 from voe.gap.search import Round
 from voe.gap.synth import ar1_noise, simulate_episode
@@ -238,7 +239,7 @@ def run_case(args: tuple) -> dict:
     found = names[0] if names else "none"
     out = {**base, "found": found, "names": names, "group": finder.groups_[0] if finder.groups_ else [],
            "verdict": verdict, "located": len(finder.located_),
-           "located_local": sum(x["bar"] == "local" for x in finder.located_),  # voe.gap.stages.locate_parts
+           "located_local": len(by_bar(finder.located_, LOCAL)),  # voe.gap.stages.locate_parts
            "n_effects": len(effects),
            "dropped": [d["effect"] for d in finder.checked_.dropped],
            "null_strength": sum(_null_strength(e) for e in effects),

@@ -9,8 +9,8 @@ are drawn before the departure test's replicates. So rerunning the location as t
 location is unchanged, which ``relocate`` checks (the count of stretches above the clean
 replicate's bar, no timing jitter modelled) and refuses otherwise. Stretches located against
 their windows' own replicates (``voe.gap.stages.locate_parts``) come after the departure test and
-do not steer the search, so a store made before them rescores exactly too. What it cannot check: the cases that named an effect are not rerun, so the
-rescore is the current code's figure only when the code changed since the stored run in the
+do not steer the search, so a store made before them rescores exactly too. What it cannot check:
+the cases that named an effect are not rerun, so the rescore is the current code's figure only when the code changed since the stored run in the
 departure test alone (``bench/gap_relocate.py`` prints which sources made the stored run).
 """
 
@@ -21,6 +21,7 @@ import numpy as np
 from voe.errors import DataError
 from voe.gap.bench import make_case
 from voe.gap.finder import GapFinder, unnamed_verdict
+from voe.gap.locate import LOCAL, by_bar
 from voe.gap.stages import GapConfig, locate_step, prepare
 
 
@@ -31,10 +32,10 @@ def relocate(r: dict, run: dict) -> dict:
                      noise_kind=r["noise_kind"])
     p = prepare(case.scene, case.episodes, GapFinder(seed=r["seed"]).effects, config)
     loc = locate_step(p, config, np.random.default_rng(r["seed"]))
-    n_local = sum(x["bar"] == "local" for x in loc.located)
+    n_local = len(by_bar(loc.located, LOCAL))
     n_clean, stored = len(loc.located) - n_local, r["located"] - r.get("located_local", 0)
     if n_clean != stored or p.jitter is not None:
         raise DataError(f"case {r['seed']}: the location differs from the stored run (located {n_clean} "
                         f"vs {stored}, timing jitter modelled: {p.jitter is not None}); a rescore would not be exact")
-    return {**r, "verdict": unnamed_verdict(loc.located, loc.departure_p), "located": len(loc.located), "located_local": n_local,
-            "relocated": float(loc.departure_p)}
+    return {**r, "verdict": unnamed_verdict(loc.located, loc.departure_p), "located": len(loc.located),
+            "located_local": n_local, "relocated": float(loc.departure_p)}

@@ -21,6 +21,7 @@ from voe.gap.check import Checked, check_step, effect_dicts
 from voe.gap.departure import ALPHA
 from voe.gap.drift import DriftAhead, drift_step
 from voe.gap.effects import EFFECTS
+from voe.gap.locate import LOCAL, by_bar
 from voe.gap.parallel import Ahead
 from voe.gap.recordings import Episode
 from voe.gap.speculate import Speculation
@@ -218,7 +219,7 @@ class GapFinder:
         its 95th percentile when no located stretch exceeds the largest (an unexplained verdict
         then rests on the paired test over all windows) or the stretches were located against
         their windows' own replicates (the bar they did not pass: ``voe.gap.stages.locate_parts``)."""
-        local = any(x["bar"] == "local" for x in self.located_)
+        local = bool(by_bar(self.located_, LOCAL))
         if self.verdict_ == "unexplained" and (local or not any(not x["z"] <= self.z_strong_ for x in self.located_)):
             return self.z_threshold_
         return self.z_strong_

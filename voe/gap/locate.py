@@ -21,6 +21,7 @@ from voe.gap.context import frame_labels, summarize
 from voe.gap.shooting import Shooter, Window
 
 VARS = ("x", "y", "angle")
+CLEAN, LOCAL = "clean", "local"  # ``Located.bar``: which bar located a stretch (``locate``, ``locate_local``)
 
 
 @dataclass(frozen=True)
@@ -39,11 +40,16 @@ class Located:
     # replicate's 95th-percentile window z: ``locate``) or "local" (each of its windows above every
     # one of that window's own window-local clean replicates and z_min; ``bar_z`` is the largest of
     # those bars over the stretch: ``locate_local``)
-    bar: str = "clean"
+    bar: str = CLEAN
     bar_z: float = float("nan")
 
     def to_dict(self) -> dict:
         return asdict(self)
+
+
+def by_bar(located: list[dict], bar: str) -> list[dict]:
+    """The stretches of ``located`` (``Located.to_dict()``) that ``bar`` (``CLEAN`` or ``LOCAL``) located."""
+    return [x for x in located if x["bar"] == bar]
 
 
 def window_z(shooter: Shooter, windows: list[Window], sigma: np.ndarray,
@@ -97,7 +103,7 @@ def locate(shooter: Shooter, windows: list[Window], z: np.ndarray, z_thr: float)
                 continue
             med = np.median(seg, axis=0)
             vars_ = [v for v, m in zip(VARS, med, strict=True) if m > z_thr] or [VARS[int(np.argmax(med))]]
-            found.append(_stretch(shooter, windows, idx[i:j], b, labels, vars_, zmed, "clean", z_thr))
+            found.append(_stretch(shooter, windows, idx[i:j], b, labels, vars_, zmed, CLEAN, z_thr))
     return found
 
 
@@ -121,7 +127,7 @@ def locate_local(shooter: Shooter, windows: list[Window], z: np.ndarray, bars: n
             med = np.median(seg, axis=0)
             vars_ = [v for v, m in zip(VARS, med, strict=True) if m > bar] or [VARS[int(np.argmax(med))]]
             found.append(_stretch(shooter, windows, idx[k:j], b, labels, vars_,
-                                  float(np.median(seg.max(axis=1))), "local", bar))
+                                  float(np.median(seg.max(axis=1))), LOCAL, bar))
             k = j
     return found
 

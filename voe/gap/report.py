@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
+from voe.gap.locate import LOCAL
 from voe.gap.output import atomic_write
 from voe.gap.search import GROUP_TOL
 from voe.gap.shooting import make_windows
@@ -106,7 +107,7 @@ def figures(finder, out: Path) -> list[str]:
 
 def _bar(x: dict) -> str:
     """The bar a located stretch passed, in words (``voe.gap.locate.Located.bar``)."""
-    if x["bar"] == "local":
+    if x["bar"] == LOCAL:
         return f"{x['bar_z']:.1f}: each window above its own clean replicates and z_min"
     return f"{x['bar_z']:.1f}: the clean replicate's 95th-percentile window z"
 

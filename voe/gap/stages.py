@@ -25,7 +25,7 @@ from voe.gap.fit import FitConfig, FitResult, Fitter
 from voe.gap.folds import FoldedFitter
 from voe.gap.greedy import SearchResult, greedy
 from voe.gap.jitter import Jitter, timing_jitter
-from voe.gap.locate import locate, locate_local, window_z
+from voe.gap.locate import CLEAN, by_bar, locate, locate_local, window_z
 from voe.gap.null import NullRound, NullSearch
 from voe.gap.prefit import FINE_HALF, flight_samples
 from voe.gap.recordings import Episode, load_recordings
@@ -195,7 +195,7 @@ def search_step(p: Problem, loc: Location | PendingLocation, config: GapConfig, 
                       config.min_gain, seed, lambda k: note(f"null: {k}"), n_jobs)
     def contexts() -> set[str]:
         located = loc.located if isinstance(loc, Location) else loc.rest().located
-        return {x["context"] for x in located if x["bar"] == "clean"} or _all_labels(p.scene, p.episodes)
+        return {x["context"] for x in by_bar(located, CLEAN)} or _all_labels(p.scene, p.episodes)
 
     noise = float(np.median(p.sigma[:, :2]))
     res = greedy(data, p.candidates, null, max_effects, contexts, noise, lambda k: note(f"fit: {k}"),

@@ -14,7 +14,7 @@ import numpy as np
 
 from voe.gap.departure import ALPHA
 from voe.gap.effects.base import Effect
-from voe.gap.locate import window_z
+from voe.gap.locate import LOCAL, by_bar, window_z
 from voe.gap.shooting import Shooter, Window, position_rmse, rmse, window_score
 
 if TYPE_CHECKING:  # an annotation only: no import of the search machinery at run time
@@ -93,7 +93,7 @@ def _where(stretches: list[dict], limit: int = 4) -> str:
     bits = []
     for x in strong[:limit]:
         r = x["region"]
-        bar = f", bar {x['bar_z']:.1f}" if x.get("bar") == "local" else ""
+        bar = f", bar {x['bar_z']:.1f}" if x["bar"] == LOCAL else ""
         bits.append(f"{x['body']} in episode {x['episode']} at t = {x['t_start']:.2f}-{x['t_end']:.2f} s, "
                     f"x {r[0]:.2f}..{r[1]:.2f} m ({x['context']}, z = {x['z']:.1f}{bar})")
     more = f"; and {len(strong) - limit} more" if len(strong) > limit else ""
@@ -148,7 +148,7 @@ def explain(verdict: str, effects: list[dict], groups: list[list[str]], located:
         return text + tail
     if verdict == "unexplained":
         test = "" if departure_p is None else f", departure p = {departure_p:.2g} (signed-rank and tail-excess tests, Bonferroni-combined)"
-        local = [x for x in located if x.get("bar") == "local"]
+        local = by_bar(located, LOCAL)
         if local:  # nothing passed the one bar: each window was held against its own clean replicates
             where = (f"{len(local)} stretch(es) located window by window (no stretch's median window z passed the "
                      f"clean replicate's 95th-percentile window z, {z_strong:.1f}, but each of these windows is above "
@@ -182,7 +182,7 @@ def explain(verdict: str, effects: list[dict], groups: list[list[str]], located:
     if located:
         ctxs = sorted({x["context"].split()[0] for x in located})
         how = (" (window by window, against clean replicates of the same windows)"
-               if any(x.get("bar") == "local" for x in located) else "")
+               if by_bar(located, LOCAL) else "")
         text += f" The mismatch was located in {len(located)} stretch(es){how}, context: {', '.join(ctxs)}."
     for g, tie in zip(groups, ties or [None] * len(groups), strict=True):
         if len(g) > 1 and tie is not None:
