@@ -76,7 +76,8 @@ def test_a_first_round_trial_that_nothing_can_confirm_is_kept_for_the_check():
 
 def test_a_later_trial_that_nothing_can_confirm_is_kept_for_the_check():
     """A trial on top of a model accepted without trial stays when the next round has nothing to
-    confirm or refuse it (``Trial.last``): the last effect of a compound truth has no next one."""
+    confirm it (``Trial.last``): the last effect of a compound truth has no next one; and when the
+    next round's winner refuses it, the trial stays and that winner is dropped (session 51)."""
     from voe.gap.greedy import greedy
     from voe.gap.search import gain_lower_bound, window_gain
 
@@ -92,9 +93,11 @@ def test_a_later_trial_that_nothing_can_confirm_is_kept_for_the_check():
     assert res.keys == ("linear_drag", "quadratic_drag") and not res.trial_alone
     assert "provisional" in res.rounds[1].basis and "nothing in the next round confirmed" in res.rounds[1].basis
     assert res.rounds[2].winner is None
-    table["angular_damping+linear_drag+quadratic_drag"] = 0.7 * split  # passes alone; the pair is refused: undone
-    res = greedy(_TableFitter(table), cands, lambda r: 0.1, 3, set(), 1e-3)
-    assert res.keys == ("linear_drag",) and res.rounds[1].winner is None and "not confirmed" in res.rounds[1].basis
+    table["angular_damping+linear_drag+quadratic_drag"] = 0.7 * split  # passes alone; the pair is refused
+    res = greedy(_TableFitter(table), cands, lambda r: 0.1, 3, set(), 1e-3)  # the trial kept, the refusing winner not
+    assert res.keys == ("linear_drag", "quadratic_drag") and not res.trial_alone
+    assert "angular_damping did not confirm it and is dropped" in res.rounds[1].basis
+    assert res.rounds[2].winner is None and "angular_damping dropped, the trial kept" in res.rounds[2].basis
 
 
 class _PairFitter:

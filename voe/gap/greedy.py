@@ -229,6 +229,9 @@ def _unconfirmed(fitter: FoldedFitter, trial: Trial, rounds: list[Round], curren
     by_pair = by_pair | set(keys[n_before:])
     if len(keys) == len(tried[1]) - 1 and (trial.current is not None or trial.mostly_better):  # ``Trial.last``
         rounds[trial.index] = trial.last(tried[2], by)
+        if by is not None:  # the refusing round's own line
+            rounds[-1] = replace(rounds[-1], basis=f"{by} won, but with {trial.round.winner} it does not beat the "
+                                                   f"model before the trial: {by} dropped, the trial kept for the check")
         return tried[0], tried[1], by_pair, trial.current is None
     return current, keys, by_pair, False
 
