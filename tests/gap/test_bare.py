@@ -127,3 +127,23 @@ def test_a_fresh_bare_makes_no_patchless_rollout_for_a_model_met_once(arena):
     assert not b.memo
     b.simulate(sh, wins, eff, np.array([0.9, 2.0, 3.0]), ("k", (3,), b"y"))
     assert len(b.memo) == len(wins)
+
+
+def test_a_full_memo_does_not_lose_the_windows_a_call_found_in_it(arena, monkeypatch):
+    """Seed 9260's untouched run crashed on floor patch 9260144 (``KeyError`` in this memo): a call
+    found some windows in the memo, inserted the ones it lacked, trimmed the memo to its size, which
+    dropped the oldest entries (windows of the same call), and then read them."""
+    import voe.gap.bare as bare
+    monkeypatch.setattr(bare, "MEMO", 14)
+    case, wins = arena
+    sh = Shooter(case.scene, case.episodes, 1e-3)
+    eff = EFFECTS.get("friction_region")()
+    b = Bare()
+    b.simulate(sh, wins, eff, np.array([0.5, 0.0, 1.0]), ("k", (3,), b"x"))  # seen: plain rollouts
+    b.simulate(sh, wins, eff, np.array([0.9, 2.0, 3.0]), ("k", (3,), b"y"))  # the 12 patchless windows
+    more = wins + [Window(ep, 20, 80) for ep in range(3)] + [Window(0, 30, 90)]  # 4 new: 16 > 14
+    p = np.array([0.7, -1.0, 0.5])
+    got = b.simulate(sh, more, eff, p, ("k", (3,), b"z"))
+    assert len(b.memo) == 14
+    for g, want in zip(got, run_many(case.scene, *sh.starts_times(more), 1e-3, eff, p), strict=True):
+        np.testing.assert_array_equal(g, want)

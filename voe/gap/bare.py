@@ -71,21 +71,23 @@ class Bare:
         if bkey is None or not self._seen(bkey):
             return shooter.run(wins, effect, params)
         keys = [(bkey, w.ep, w.k0, w.k1) for w in wins]
-        missing = [i for i, k in enumerate(keys) if k not in self.memo]
+        got = {k: self.memo[k] for k in keys if k in self.memo}  # read before the memo is trimmed below
+        for k in got:
+            self.memo.move_to_end(k)
+        missing = [i for i, k in enumerate(keys) if k not in got]
         if missing:
             sub = [wins[i] for i in missing]
             poses, contacts, _ = run_many_recorded(shooter.scene, *shooter.starts_times(sub), shooter.substep,
                                                    effect, params)
             for i, pose, c in zip(missing, poses, contacts, strict=True):
-                self.memo[keys[i]] = (pose, c)
-            while len(self.memo) > MEMO:
+                self.memo[keys[i]] = got[keys[i]] = (pose, c)
+            while len(self.memo) > MEMO:  # may drop this call's own windows: they are read from ``got``
                 self.memo.popitem(last=False)
         mats = effect.materials(params, shooter.scene)
         out: list[np.ndarray | None] = [None] * len(wins)
         todo = []
         for i, k in enumerate(keys):
-            pose, c = self.memo[k]
-            self.memo.move_to_end(k)
+            pose, c = got[k]
             if region_inert(c, mats):
                 out[i] = pose.copy()
                 self.n_reused += 1
