@@ -65,5 +65,5 @@ def test_outside_expression_lines_split_the_out_of_library_verdicts():
             {"truth": "floor_patch", "names": [], "verdict": "consistent", "located": 4, "expressed": (3, 21)},
             {"truth": "gust", "names": [], "verdict": "unexplained", "located": 12, "expressed": None}]
     (line,) = outside_expression_lines(rows)
-    assert "floor patch moves" in line and "in 3 or more windows 2/3 = 67 %; in fewer 0/1 = 0 %" in line
+    assert "floor patch moves a location window's" in line and "in 3 or more windows 2/3 = 67 %; in fewer 0/1 = 0 %" in line
     assert outside_expression_lines([rows[-1]]) == []

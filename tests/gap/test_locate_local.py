@@ -55,3 +55,9 @@ def test_the_explanation_says_which_bar_located_a_stretch():
     clean = {**x, "z": 30.0, "bar": "clean", "bar_z": 21.2}
     text = explain("unexplained", [], [], [clean], ver, 0.08, np.full((1, 3), 1e-3), "test", 21.2, departure_p=4e-4)
     assert "1 located stretch(es) (z above 21.2)" in text and "window-local" not in text
+
+
+def test_gap_md_names_the_local_bar_as_the_explanation_does():
+    from voe.gap.report import _bar
+    assert _bar({"bar": "local", "bar_z": 9.3}, 5.0) == "9.3: each window above its own clean replicates and z = 5"
+    assert _bar({"bar": "clean", "bar_z": 21.2}, 5.0) == "21.2: the clean replicate's 95th-percentile window z"

@@ -197,22 +197,22 @@ def expression_lines(cycle: list[dict]) -> list[str]:
     """Identification of the single truths split by how many selection windows express them
     (``voe.gap.bench.expression``): a diagnostic beside the headline figure, not a replacement."""
     rows = [r for r in cycle if r["truth"] != "none" and r.get("expressed")]
-    return _by_expression(rows, lambda r: r["found"] == r["truth"], "truth")
+    return _by_expression(rows, lambda r: r["found"] == r["truth"], "truth", "selection")
 
 
 def outside_expression_lines(outs: list[dict]) -> list[str]:
-    """The out-of-library truths right (``outside_right``) split by how many selection windows the
-    floor patch expresses in (``voe.gap.bench.expression``; gusts are not simulated window by
+    """The out-of-library truths right (``outside_right``) split by how many of the location's 1-s
+    windows the floor patch moves (``voe.gap.bench.expression``; gusts are not simulated window by
     window): whether the misses are patches the recordings show, or patches that leave no trace a
     finder could honestly report. A diagnostic beside the target, not a replacement."""
-    return _by_expression([r for r in outs if r.get("expressed")], outside_right, "floor patch")
+    return _by_expression([r for r in outs if r.get("expressed")], outside_right, "floor patch", "location")
 
 
-def _by_expression(rows: list[dict], right: Callable[[dict], bool], what: str) -> list[str]:
+def _by_expression(rows: list[dict], right: Callable[[dict], bool], what: str, windows: str) -> list[str]:
     if not rows:
         return []
     strong = [r for r in rows if r["expressed"][0] >= 3]
     weak = [r for r in rows if r["expressed"][0] < 3]
     ok = lambda rs: sum(map(right, rs))  # noqa: E731
-    return [f"  by expression ({what} moves a selection window's prediction by > 3 noise sigmas): in 3 or more "
+    return [f"  by expression ({what} moves a {windows} window's prediction by > 3 noise sigmas): in 3 or more "
             f"windows {_pct(ok(strong), len(strong))}; in fewer {_pct(ok(weak), len(weak))}"]

@@ -105,10 +105,11 @@ def figures(finder, out: Path) -> list[str]:
     return ["trajectories.png", "residual.png"]
 
 
-def _bar(x: dict) -> str:
-    """The bar a located stretch passed, in words (``voe.gap.locate.Located.bar``)."""
+def _bar(x: dict, z_floor: float) -> str:
+    """The bar a located stretch passed, in words (``voe.gap.locate.Located.bar``); ``z_floor`` is
+    the location's floor (``GapConfig.z_min``), named as a number as the explanation names it."""
     if x["bar"] == LOCAL:
-        return f"{x['bar_z']:.1f}: each window above its own clean replicates and z_min"
+        return f"{x['bar_z']:.1f}: each window above its own clean replicates and z = {z_floor:g}"
     return f"{x['bar_z']:.1f}: the clean replicate's 95th-percentile window z"
 
 
@@ -140,7 +141,7 @@ def markdown(finder, figs: list[str]) -> str:
         lines += ["| episode | body | t (s) | variables | context | z | bar passed |", "|---|---|---|---|---|---|---|"]
         for x in finder.located_[:40]:
             lines.append(f"| {x['episode']} | {x['body']} | {x['t_start']:.2f}-{x['t_end']:.2f} | "
-                         f"{', '.join(x['variables'])} | {x['context']} | {x['z']:.1f} | {_bar(x)} |")
+                         f"{', '.join(x['variables'])} | {x['context']} | {x['z']:.1f} | {_bar(x, finder.config.z_min)} |")
         if len(finder.located_) > 40:
             lines.append(f"\n... and {len(finder.located_) - 40} more in gap.json.")
     else:
