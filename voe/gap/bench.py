@@ -220,19 +220,18 @@ def expression(case: Case, finder: GapFinder, noise: float) -> tuple[int, int] |
     selection windows missed the patch altogether in four whose location windows show it).
     """
     sh, wins = finder.problem_.shooter, finder.search_.fitter.test
-    n0 = sh.n_rollouts
-    if case.truth == "floor_patch" and case.sim_scene is not None:
-        wins = finder.location_.windows
-        a = sh.simulate_many(wins, None, None)
-        b = Shooter(case.sim_scene, sh.episodes, sh.substep, sh.half).simulate_many(wins, None, None)
-    elif kind(case.truth) == "single" and len(case.true) == 1:
+    if case.truth == "floor_patch" and case.sim_scene is not None:  # the patch's scene, nominal physics
+        wins, eff, p = finder.location_.windows, None, None
+        truth = Shooter(case.sim_scene, sh.episodes, sh.substep, sh.half)
+    elif kind(case.truth) == "single" and len(case.true) == 1:  # the nominal scene with the true effect
         (name, (params, bodies)), = case.true.items()
         cls = EFFECTS.get(name)
-        eff = cls(bodies=tuple(bodies)) if bodies else cls()
-        a = sh.simulate_many(wins, None, None)
-        b = sh.simulate_many(wins, eff, np.asarray(params, dtype=float))
+        truth, eff, p = sh, cls(bodies=tuple(bodies)) if bodies else cls(), np.asarray(params, dtype=float)
     else:
         return None
+    n0 = sh.n_rollouts
+    a = sh.simulate_many(wins, None, None)
+    b = truth.simulate_many(wins, eff, p)
     sh.n_rollouts = n0  # not part of the diagnosis
     rms = [float(np.sqrt(np.mean(((x - y) * sh.scale[None]) ** 2))) for x, y in zip(a, b, strict=True)]
     return int(sum(r > EXPRESSED_Z * noise for r in rms)), len(wins)

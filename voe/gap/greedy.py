@@ -330,9 +330,10 @@ class Trial:
         17.0 %; 9028098's fitted ``mass[ball]`` 16.9 %, -0.01 %, 10.7 %); a single effect has
         no next round to confirm it, so the old rule (undone) could never name it, however
         strong. A trial the next round refuses (a winner ``by`` that, with it, does not beat the
-        model before the trial) is kept the same way and the refusing winner dropped (session 51,
-        held for a count): development case 5025137 (``rolling_resistance`` 0.045 and a box of
-        0.44 times the mass) named ``mass`` in round 0; round 1's ``rolling_resistance`` gained
+        model before the trial) is kept the same way and the refusing winner dropped (built in
+        session 51, landed in session 54 after the count in the module docstring): development
+        case 5025137 (``rolling_resistance`` 0.045 and a box of 0.44 times the mass) named
+        ``mass`` in round 0; round 1's ``rolling_resistance`` gained
         26.1 % against a threshold of 5.3 %, lower bound -2.7 %; round 2's ``friction`` passed with a
         lower bound of 0.0002 but the pair did not, so both were undone and the rolling resistance,
         expressed in 14 of 36 windows, went unnamed. Until then a refused trial was undone, first
