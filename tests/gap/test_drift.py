@@ -16,6 +16,7 @@ from voe.gap.drift import (
     material,
     split_estimates,
 )
+from voe.gap import drift
 from voe.gap.effects import EFFECTS
 from voe.gap.parametric import SPREAD
 from voe.gap.prefit import flight_samples
@@ -202,16 +203,60 @@ def test_a_slot_seen_in_short_flight_stretches_still_counts():
              (2, 2, 4, 0.97, 0.02), (3, 0, 0, -0.16, -0.08), (3, 1, 14, -0.22, 0.02), (3, 2, 4, 1.16, 0.01),
              (3, 3, 3, 1.15, 0.05), (4, 0, 0, -0.08, 0.05), (5, 0, 0, -0.16, 0.10), (5, 1, 10, -0.12, -0.09),
              (5, 2, 8, 1.08, -0.03), (5, 3, 2, 1.29, 0.14)]
-    time, step = np.zeros(len(samples)), np.zeros((len(samples), 2))  # (N,), (N, 2); slot 0 takes the rest
-    for k in range(6):
+    stepped = _with_units(samples, units)
+    ctx = context_for(scene, eps)
+    found = flight_drift(stepped, eff, stepped.dacc.mean(axis=0), scene, ctx)
+    assert found is not None and found.param == "x" and abs(found.early - found.late) > 0.9
+    # the slot at 0.5 s is tested (three units), and since session 55 the time before it against after
+    names = [n for n, _ in drift.flight_contrasts(np.array([u[1] for u in units]))]
+    assert "time 0.50 s" in names and found.split == "before 0.50 s"
+    # the same short stretches without the step are no drift
+    still = dataclasses.replace(samples, time=stepped.time)
+    assert flight_drift(still, eff, samples.dacc.mean(axis=0), scene, ctx) is None
+
+
+def _with_units(samples, units):
+    """``samples`` with each (episode, slot, samples, x, y) unit's residual added to its last
+    samples of that episode (slot 0 takes what is left), times put in its slot."""
+    time, step = np.zeros(len(samples)), np.zeros((len(samples), 2))  # (N,), (N, 2)
+    for k in np.unique(samples.episode):
         idx, end = np.flatnonzero(samples.episode == k), None
         for _, slot, n, x, y in sorted((u for u in units if u[0] == k), key=lambda u: -u[1]):
             rows = idx[:end][-n:] if n else idx[:end]
             time[rows], step[rows] = (slot + 0.5) * FLIGHT_SLOT, (x, y)
             end = -n if end is None else end - n
-    dacc = samples.dacc + step  # (N, 2)
+    return dataclasses.replace(samples, time=time, dacc=samples.dacc + step)
+
+
+def test_a_swing_across_slots_is_caught_before_against_after():
+    """Untouched case 9260143 (session 54, a gust): ``spring_anchor`` was named. Fitted in flight
+    it left units of about +0.15 m/s^2 in the ten before 0.5 s and -0.73, -1.02, -1.48 after, in
+    two slots (two units and one): no slot held three units, so no slot was tested. The units
+    below are that case's (episode, slot, samples, median residual x and y in m/s^2); before
+    against after, with the variance pooled, they differ at t = 9.5."""
+    eff = EFFECTS.get("constant_acceleration")()
+    scene, eps = _episodes(False, n=6)
+    samples = flight_samples(scene, eps)  # about 0.5 m/s^2 missing, constant in time
+    units = [(0, 0, 0, 0.107, -0.018), (0, 1, 9, 0.334, 0.031), (1, 0, 0, 0.166, 0.041), (1, 1, 15, 0.292, -0.027),
+             (2, 0, 0, 0.027, 0.038), (3, 0, 0, -0.018, 0.005), (3, 1, 25, 0.226, -0.006), (3, 2, 7, -0.731, -0.081),
+             (3, 3, 9, -1.022, -0.003), (4, 0, 0, 0.113, -0.039), (4, 1, 4, 0.317, 0.006), (5, 0, 0, -0.080, 0.037),
+             (5, 1, 23, 0.133, 0.006), (5, 3, 15, -1.475, -0.032)]
+    s = _with_units(samples, units)
     ctx = context_for(scene, eps)
-    found = flight_drift(dataclasses.replace(samples, time=time, dacc=dacc), eff, dacc.mean(axis=0), scene, ctx)
-    assert found is not None and found.param == "x" and found.split == "time 0.50 s" and found.early > 0.9
-    # the same short stretches without the step are no drift
-    assert flight_drift(dataclasses.replace(samples, time=time), eff, samples.dacc.mean(axis=0), scene, ctx) is None
+    found = flight_drift(s, eff, s.dacc.mean(axis=0), scene, ctx)
+    assert found is not None and found.param == "x" and found.split == "before 0.50 s"
+    assert found.late < -0.9 < 0 < found.early and "before 0.50 s" in found.reason()
+    # the slots alone do not see it: no slot after 0.5 s holds three units
+    names = [n for n, _ in drift.flight_contrasts(np.array([u[1] for u in units]))]
+    assert [n for n in names if n.startswith("time")] == ["time 0.00 s", "time 0.25 s"]
+    # the same units without the swing are no drift
+    flat = [(e, k, n, x if k < 2 else 0.15, y) for e, k, n, x, y in units]
+    assert flight_drift(_with_units(samples, flat), eff, samples.dacc.mean(axis=0) + [0.15, 0], scene, ctx) is None
+
+
+def test_flight_contrasts_are_each_split_once():
+    lab = np.array([0, 0, 0, 1, 1, 1, 2, 2, 2, 3, 3, 3])  # (U,) four slots of three units
+    got = drift.flight_contrasts(lab)
+    assert [n for n, _ in got] == ["time 0.00 s", "time 0.25 s", "time 0.50 s", "time 0.75 s", "before 0.50 s"]
+    assert got[-1][1].tolist() == [True] * 6 + [False] * 6
+    assert drift.flight_contrasts(np.array([0, 0, 1, 1, 1])) == []  # a side needs three units
