@@ -44,8 +44,9 @@ two estimates of the same estimator, so it needs the same spread the intervals n
 development case 8587095: a true joint damping (0.0486, expressed in 19 of 20 windows) was dropped
 at z = 5.8 (critical 4.8) for 0.0324 in the six windows centred 2.2 s against 0.0477 elsewhere,
 32 % of its strength; widened, z = 2.9, and it is reported (0.0481). A constant fitted to a gust
-or a floor patch is caught mostly in flight (``flight_drift``, a Welch t on one residual per
-episode and slot, not widened: that spread is measured across independent units).
+or a floor patch is caught mostly in flight (``flight_drift``, t-tests on one residual per
+episode and slot, each slot against the rest and the time before each slot boundary against the
+time after, not widened: that spread is measured across independent units).
 """
 
 from __future__ import annotations
@@ -374,14 +375,15 @@ def flight_drift(samples: FlightSamples | None, effect: Effect, params: np.ndarr
     one slot against the rest halves that difference and, with three units on its side, a
     Welch test has about two degrees of freedom. Untouched case 9260143 (a gust named
     ``spring_anchor``) left units of 0.03 to 0.33 m/s^2 in the ten before 0.5 s and -0.73, -1.02
-    and -1.48 after: no slot of three units, so nothing was tested; before against after, t = 9.5
-    on 11 degrees of freedom. The variance is pooled because a side of three units cannot
+    and -1.48 after, in two slots of one and two units: the late swing was in no slot tested; before
+    against after, t = 9.5 on 11 degrees of freedom. The variance is pooled because a side of three units cannot
     estimate its own (Welch's t there needs t > 8.8 at this family-wise level); each side spans at
     least two slots, so the spread pooled is that of units at several times. Counted on the gusts
     of twenty development seeds (120), each library effect that pushes in flight fitted in flight
     (600 pairs): caught in 537 against 493 with the slot tests alone (4 lost to the larger family),
-    every library effect caught in 94 gusts against 85; the truth of 500 single-effect cases at
-    its true parameters drifted in none, with or without (docs/gap-findings.md, session 55).
+    every library effect caught in 94 gusts against 85; the truth of 500 single-effect and 60
+    compound cases at its true parameters drifted in none, with or without (docs/gap-findings.md,
+    session 55).
 
     A significant change must also be *material*: at least ``MATERIAL`` of the median missing
     acceleration in flight (``|dacc|``, what the effect has to explain). Why: with hundreds of
