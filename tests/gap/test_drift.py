@@ -7,6 +7,7 @@ import dataclasses
 import numpy as np
 import pytest
 
+from voe.gap import drift
 from voe.gap.drift import (
     FLIGHT_SLOT,
     MATERIAL,
@@ -16,7 +17,6 @@ from voe.gap.drift import (
     material,
     split_estimates,
 )
-from voe.gap import drift
 from voe.gap.effects import EFFECTS
 from voe.gap.parametric import SPREAD
 from voe.gap.prefit import flight_samples
