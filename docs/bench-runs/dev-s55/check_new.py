@@ -18,14 +18,9 @@ for sb in map(int, sys.argv[1:]):
         F.CTX[0] = ctx = context_for(case.scene, eps)
         for name in ("spring_anchor", "point_attractor", "linear_drag", "quadratic_drag", "constant_acceleration"):
             e = EFFECTS.get(name)()
-            best = None
-            for st in e.starts(ctx)[:6]:
-                pp = D._flight_fit(seen, e, np.asarray(st, float), case.scene, ctx)
-                r = seen.dacc - seen_missing(e, pp, seen, case.scene)[0]
-                c = float(np.sum(np.sqrt(1 + (r / 0.1) ** 2) - 1))
-                if best is None or c < best[0]: best = (c, pp)
-            new = D.flight_drift(seen, e, best[1], case.scene, ctx)
-            h = F.test(F.unit_table(seen, e, best[1], case.scene), "both", "hyb")
+            p = F.best_flight_fit(seen, e, ctx, case.scene)
+            new = D.flight_drift(seen, e, p, case.scene, ctx)
+            h = F.test(F.unit_table(seen, e, p, case.scene), "both", "hyb")
             ok = (new is None) == (h is None)
             agree += ok; dis += not ok
             if not ok or s in (9260143,): print(s, name, new, h)

@@ -45,6 +45,20 @@ def welch(x, y):
     df = (vx + vy) ** 2 / (vx**2 / (len(x) - 1) + vy**2 / (len(y) - 1))
     return abs(x.mean() - y.mean()) / se, int(np.floor(df))
 
+def pooled(x, y):
+    sp = np.sqrt(((len(x) - 1) * x.var(ddof=1) + (len(y) - 1) * y.var(ddof=1)) / (len(x) + len(y) - 2))
+    return abs(x.mean() - y.mean()) / max(sp * np.sqrt(1 / len(x) + 1 / len(y)), 1e-12), len(x) + len(y) - 2
+
+def best_flight_fit(seen, e, ctx, scene):
+    """``e``'s parameters fitted in flight from each of its first six starts, the lowest soft-L1 cost kept."""
+    best = None
+    for st in e.starts(ctx)[:6]:
+        pp = D._flight_fit(seen, e, np.asarray(st, float), scene, ctx)
+        r = seen.dacc - seen_missing(e, pp, seen, scene)[0]
+        c = float(np.sum(np.sqrt(1 + (r / 0.1) ** 2) - 1))
+        if best is None or c < best[0]: best = (c, pp)
+    return best[1]
+
 def contrasts(lab, kind):
     """(name, mask) splits of units."""
     out = []
@@ -71,9 +85,7 @@ def test(tab, kind, how="welch"):
                 if name.startswith("slot"):
                     z, df = welch(x, y)
                 else:
-                    sp = np.sqrt(((len(x) - 1) * x.var(ddof=1) + (len(y) - 1) * y.var(ddof=1)) / (len(x) + len(y) - 2))
-                    z = abs(x.mean() - y.mean()) / max(sp * np.sqrt(1 / len(x) + 1 / len(y)), 1e-12)
-                    df = len(x) + len(y) - 2
+                    z, df = pooled(x, y)
                 if abs(x.mean() - y.mean()) >= floor and z > crit(df, n) and (worst is None or z > worst[1]):
                     worst = (name + " " + "xy"[j], round(float(z), 1))
         return worst
@@ -91,9 +103,7 @@ def test(tab, kind, how="welch"):
             if how == "welch":
                 z, df = welch(x, y)
             else:
-                sp = np.sqrt(((len(x) - 1) * x.var(ddof=1) + (len(y) - 1) * y.var(ddof=1)) / (len(x) + len(y) - 2))
-                z = abs(x.mean() - y.mean()) / max(sp * np.sqrt(1 / len(x) + 1 / len(y)), 1e-12)
-                df = len(x) + len(y) - 2
+                z, df = pooled(x, y)
             if abs(x.mean() - y.mean()) >= floor and z > crit(df, n) and (worst is None or z > worst[1]):
                 worst = (name + " " + "xy"[j], round(float(z), 1))
     return worst
@@ -121,13 +131,7 @@ def run(seed_base, which):
         if truth == "gust":
             for name in ("spring_anchor", "point_attractor", "linear_drag", "quadratic_drag", "constant_acceleration"):
                 e = EFFECTS.get(name)()
-                best = None
-                for st in e.starts(ctx)[:6]:
-                    pp = D._flight_fit(seen, e, np.asarray(st, float), case.scene, ctx)
-                    r = seen.dacc - seen_missing(e, pp, seen, case.scene)[0]
-                    c = float(np.sum(np.sqrt(1 + (r / 0.1) ** 2) - 1))
-                    if best is None or c < best[0]: best = (c, pp)
-                tab = unit_table(seen, e, best[1], case.scene)
+                tab = unit_table(seen, e, best_flight_fit(seen, e, ctx, case.scene), case.scene)
                 rec[name] = {v: test(tab, *VARIANTS[v]) for v in VARIANTS}
         else:
             parts = [EFFECTS.get(n)(bodies=b) for n, (p, b) in case.true.items()]
