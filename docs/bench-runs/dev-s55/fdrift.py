@@ -74,21 +74,6 @@ def contrasts(lab, kind):
 
 def test(tab, kind, how="welch"):
     if tab is None: return None
-    if how == "hyb":
-        u, lab, floor = tab
-        cs = contrasts(lab, "both")
-        n = 2 * len(cs)
-        worst = None
-        for name, m in cs:
-            for j in range(2):
-                x, y = u[m, j], u[~m, j]
-                if name.startswith("slot"):
-                    z, df = welch(x, y)
-                else:
-                    z, df = pooled(x, y)
-                if abs(x.mean() - y.mean()) >= floor and z > crit(df, n) and (worst is None or z > worst[1]):
-                    worst = (name + " " + "xy"[j], round(float(z), 1))
-        return worst
     if how == "union":
         a = test(tab, kind, "welch2") 
         return a if a is not None else test(tab, kind, "pooled2")
@@ -100,10 +85,9 @@ def test(tab, kind, how="welch"):
     for name, m in cs:
         for j in range(2):
             x, y = u[m, j], u[~m, j]
-            if how == "welch":
-                z, df = welch(x, y)
-            else:
-                z, df = pooled(x, y)
+            # hyb (landed): Welch on single slots, pooled on before/after splits
+            stat = how if how != "hyb" else ("welch" if name.startswith("slot") else "pooled")
+            z, df = welch(x, y) if stat == "welch" else pooled(x, y)
             if abs(x.mean() - y.mean()) >= floor and z > crit(df, n) and (worst is None or z > worst[1]):
                 worst = (name + " " + "xy"[j], round(float(z), 1))
     return worst
