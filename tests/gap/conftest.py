@@ -11,6 +11,7 @@ import pytest
 
 from voe.gap.effects import EFFECTS
 from voe.gap.synth import simulate_episode
+from voe.gap.truths import Gust
 from voe.sim.scenefile import BodySpec, SceneSpec
 
 BALL = {"name": "ball", "shape": "circle", "radius": 0.1, "mass": 1.0, "friction": 0.5, "elasticity": 0.5}
@@ -32,6 +33,22 @@ def flight_episodes(effect: str = "none", params=(), n: int = 4, duration: float
         pose0 = np.array([[rng.uniform(-1, 1), rng.uniform(0, 1), 0.0]])
         vel0 = np.array([[rng.uniform(3, 5), rng.uniform(4, 7), rng.uniform(-5, 5)]])
         eps.append(simulate_episode(scene, k, t, pose0, vel0, eff, np.asarray(params, float), sigma, rng))
+    return scene, eps
+
+
+def gusty_episodes(gust: bool, n: int = 6, seed: int = 3):
+    """``n`` episodes of a ball in flight pushed by a gust (``voe.gap.truths.Gust``) or by a constant
+    acceleration of 0.5 m/s^2 along x; 3 s at 100 Hz."""
+    rng = np.random.default_rng(seed)
+    scene, t = flight_scene(), np.arange(301) / 100
+    sigma = np.array([[1e-3, 1e-3, 1e-2]])
+    ca = EFFECTS.get("constant_acceleration")()
+    eps = []
+    for k in range(n):
+        pose0 = np.array([[rng.uniform(-1, 1), rng.uniform(0, 1), 0.0]])
+        vel0 = np.array([[rng.uniform(1, 2), rng.uniform(8, 10), 0.0]])
+        eff, p = (Gust(), np.array([1.0, 1.2, 0.3])) if gust else (ca, np.array([0.5, 0.0]))
+        eps.append(simulate_episode(scene, k, t, pose0, vel0, eff, p, sigma, rng))
     return scene, eps
 
 

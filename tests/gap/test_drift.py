@@ -2,45 +2,18 @@
 
 from __future__ import annotations
 
-import dataclasses
-
 import numpy as np
 import pytest
 
-from voe.gap import drift
-from voe.gap.drift import (
-    FLIGHT_SLOT,
-    MATERIAL,
-    drifts,
-    flight_drift,
-    flight_movers,
-    material,
-    split_estimates,
-)
+from voe.gap.drift import drifts, material, split_estimates
+from voe.gap.drift_base import MATERIAL
 from voe.gap.effects import EFFECTS
 from voe.gap.parametric import SPREAD
-from voe.gap.prefit import flight_samples
 from voe.gap.shooting import Shooter, make_windows, noise_model
 from voe.gap.stages import context_for
-from voe.gap.synth import simulate_episode
-from voe.gap.truths import Gust
 from voe.gap.uncertainty import window_terms
 
-from .conftest import flight_scene
-
-
-def _episodes(gust: bool, n: int = 6, seed: int = 3):
-    rng = np.random.default_rng(seed)
-    scene, t = flight_scene(), np.arange(301) / 100
-    sigma = np.array([[1e-3, 1e-3, 1e-2]])
-    ca = EFFECTS.get("constant_acceleration")()
-    eps = []
-    for k in range(n):
-        pose0 = np.array([[rng.uniform(-1, 1), rng.uniform(0, 1), 0.0]])
-        vel0 = np.array([[rng.uniform(1, 2), rng.uniform(8, 10), 0.0]])
-        eff, p = (Gust(), np.array([1.0, 1.2, 0.3])) if gust else (ca, np.array([0.5, 0.0]))
-        eps.append(simulate_episode(scene, k, t, pose0, vel0, eff, p, sigma, rng))
-    return scene, eps
+from .conftest import gusty_episodes
 
 
 def _pooled_fit(sh, sigma, wins, eff, ctx) -> np.ndarray:
@@ -55,7 +28,7 @@ def _pooled_fit(sh, sigma, wins, eff, ctx) -> np.ndarray:
 def test_a_constant_fitted_to_a_gust_drifts_and_a_true_constant_does_not():
     eff = EFFECTS.get("constant_acceleration")()
     for gust in (True, False):
-        scene, eps = _episodes(gust)
+        scene, eps = gusty_episodes(gust)
         sigma = noise_model(eps)[0]
         sh = Shooter(scene, eps, 1e-3, 8)
         ctx = context_for(scene, eps)
@@ -89,91 +62,6 @@ def test_split_estimates_worked_example():
                            np.random.default_rng(0)) is None  # two windows are no estimate
 
 
-def test_flight_residual_of_a_constant_fitted_to_a_gust_changes_in_time():
-    eff = EFFECTS.get("constant_acceleration")()
-    for gust in (True, False):
-        scene, eps = _episodes(gust)
-        for around in (False, True):  # smoothing the constant as the recording was changes nothing
-            samples = flight_samples(scene, eps, around=around)
-            mean = samples.dacc.mean(axis=0)  # (2,) the best constant in flight
-            found = flight_drift(samples, eff, mean, scene, context_for(scene, eps))
-            if gust:
-                assert found is not None and found.flight and found.param == "x" and "changes in time" in found.reason()
-            else:
-                assert abs(mean[0] - 0.5) < 0.05 and found is None
-
-
-def test_a_true_attractor_passed_at_one_time_does_not_drift_in_flight():
-    """Development case 2758047: a true point attractor was dropped as changing in time (t = 4.2)
-    because the recorded accelerations are smoothed over 0.25 s and the attractor's pull was
-    not; the bodies pass the point at about the same time, so the smoothing's bias sat in one
-    slot. Smoothed as the recording was (``around``), the residual is the noise."""
-    rng = np.random.default_rng(0)
-    scene, t = flight_scene(), np.arange(201) / 100
-    sigma = np.array([[1e-3, 1e-3, 1e-2]])
-    eff, p = EFFECTS.get("point_attractor")(), np.array([1.5, 1.0, 3.6])  # passed about 0.75 s in
-    eps = []
-    for k in range(8):
-        pose0 = np.array([[rng.uniform(-0.2, 0.2), rng.uniform(0, 0.2), 0.0]])
-        vel0 = np.array([[rng.uniform(1.2, 1.5), rng.uniform(8.5, 9), 0.0]])
-        eps.append(simulate_episode(scene, k, t, pose0, vel0, eff, p, sigma, rng))
-    ctx = context_for(scene, eps)
-    plain = flight_drift(flight_samples(scene, eps), eff, p, scene, ctx)
-    assert plain is not None and plain.split == "time 0.75 s"  # the false alarm, unsmoothed
-    assert flight_drift(flight_samples(scene, eps, around=True), eff, p, scene, ctx) is None
-
-
-def test_smoothing_kernel_reproduces_the_filtered_second_derivative():
-    from scipy.signal import savgol_filter
-
-    from voe.gap.prefit import smoothing_kernel
-
-    dt, x = 0.01, np.cos(7 * np.arange(60) * 0.01) + (np.arange(60) * 0.01) ** 3  # (T,)
-    acc = np.diff(x, 2) / dt**2  # (T - 2,) second differences at frames 1 .. T - 2
-    w = smoothing_kernel(12)  # (23,)
-    want = savgol_filter(x, 25, 3, deriv=2, delta=dt)[30]
-    assert abs(w.sum() - 1) < 1e-9 and abs(w @ acc[30 - 12:30 + 11] - want) < 1e-6 * abs(want)
-
-
-def test_only_parts_that_push_in_flight_answer_for_a_flight_residual():
-    from voe.gap.effects.base import EffectSum
-
-    scene, eps = _episodes(False, n=2)
-    ctx = context_for(scene, eps)
-    names = ("rolling_resistance", "angular_damping", "constant_acceleration", "linear_drag")
-    eff = EffectSum(tuple(EFFECTS.get(n)() for n in names))
-    params = np.array([0.05, 0.001, 0.5, 0.0, 0.1])
-    assert flight_movers(flight_samples(scene, eps), eff, params, scene, ctx) == [2, 3]
-
-
-def test_a_significant_but_immaterial_flight_drift_is_not_a_drift(monkeypatch):
-    """Untouched case 7741009: a right quadratic drag (about 1 m/s^2 in flight) was dropped for a
-    residual 0.04 m/s^2 different in one slot; a change must be a share of what is missing."""
-    import dataclasses
-
-    import voe.gap.drift as drift
-
-    eff = EFFECTS.get("constant_acceleration")()
-    scene, eps = _episodes(False, n=12)
-    samples = flight_samples(scene, eps)  # about 0.5 m/s^2 missing, constant in time
-    ctx = context_for(scene, eps)
-
-    def with_step(off: float):
-        dacc = samples.dacc.copy()
-        dacc[samples.time < 0.75, 0] += off  # the first three slots push harder
-        s = dataclasses.replace(samples, dacc=dacc)
-        return drift.flight_drift(s, eff, dacc.mean(axis=0), scene, ctx)
-
-    monkeypatch.setattr(drift, "MATERIAL", 0.0)
-    assert with_step(0.05) is not None  # significant on its own ...
-    monkeypatch.setattr(drift, "MATERIAL", 0.2)
-    assert with_step(0.05) is None  # ... but a tenth of what is missing is no drift at 20 %
-    monkeypatch.setattr(drift, "MATERIAL", 0.1)
-    assert with_step(0.3) is not None and with_step(0.0) is None and with_step(0.06) is not None
-    monkeypatch.undo()  # the default: untouched case 7741041 lost a right 0.57 m/s^2 to a 12 % step
-    assert with_step(0.06) is None and with_step(0.3) is not None
-
-
 def test_a_parameter_drift_must_be_material_to_the_parts_strength():
     # 7857006: a linear drag 0.195 in one slot against 0.219 elsewhere is 11 % of its strength
     assert MATERIAL == 0.3
@@ -187,76 +75,3 @@ def test_a_parameter_drift_must_be_material_to_the_parts_strength():
     assert material(np.array([0.3, 0.0]), np.array([-0.05, 0.01]), np.zeros(2)).tolist() == [True, False]
     # a parameter without a nominal value (a position) has no floor
     assert material(np.array([0.1, 1.0]), np.array([0.1, 1.001]), np.array([0.0, np.nan])).tolist() == [False, True]
-
-
-def test_a_slot_seen_in_short_flight_stretches_still_counts():
-    """Session 20 untouched case 6157143 (a gust): the ball flew in the slot at 0.5 s in only three
-    of six fitting episodes, for 4, 4 and 8 samples, where a constant left about 1.1 m/s^2 against
-    about 0 earlier. With five samples needed per unit that slot held one unit and was never
-    tested, and ``constant_acceleration`` was named. Three samples (a median that withstands one
-    far-off sample) make each of those stretches a unit. The units below are that case's (episode,
-    slot, samples, median residual x and y in m/s^2)."""
-    eff = EFFECTS.get("constant_acceleration")()
-    scene, eps = _episodes(False, n=6)
-    samples = flight_samples(scene, eps)  # about 0.5 m/s^2 missing, constant in time
-    units = [(0, 0, 0, 0.10, 0.06), (1, 0, 0, 0.06, -0.07), (2, 0, 0, -0.02, 0.04), (2, 1, 5, 0.22, -0.06),
-             (2, 2, 4, 0.97, 0.02), (3, 0, 0, -0.16, -0.08), (3, 1, 14, -0.22, 0.02), (3, 2, 4, 1.16, 0.01),
-             (3, 3, 3, 1.15, 0.05), (4, 0, 0, -0.08, 0.05), (5, 0, 0, -0.16, 0.10), (5, 1, 10, -0.12, -0.09),
-             (5, 2, 8, 1.08, -0.03), (5, 3, 2, 1.29, 0.14)]
-    stepped = _with_units(samples, units)
-    ctx = context_for(scene, eps)
-    found = flight_drift(stepped, eff, stepped.dacc.mean(axis=0), scene, ctx)
-    assert found is not None and found.param == "x" and abs(found.early - found.late) > 0.9
-    # the slot at 0.5 s is tested (three units), and since session 55 the time before it against after
-    names = [n for n, _ in drift.flight_contrasts(np.array([u[1] for u in units]))]
-    assert "time 0.50 s" in names and found.split == "before 0.50 s"
-    # the same short stretches without the step are no drift
-    still = dataclasses.replace(samples, time=stepped.time)
-    assert flight_drift(still, eff, samples.dacc.mean(axis=0), scene, ctx) is None
-
-
-def _with_units(samples, units):
-    """``samples`` with each (episode, slot, samples, x, y) unit's residual added to its last
-    samples of that episode (slot 0 takes what is left), times put in its slot."""
-    time, step = np.zeros(len(samples)), np.zeros((len(samples), 2))  # (N,), (N, 2)
-    for k in np.unique(samples.episode):
-        idx, end = np.flatnonzero(samples.episode == k), None
-        for _, slot, n, x, y in sorted((u for u in units if u[0] == k), key=lambda u: -u[1]):
-            rows = idx[:end][-n:] if n else idx[:end]
-            time[rows], step[rows] = (slot + 0.5) * FLIGHT_SLOT, (x, y)
-            end = -n if end is None else end - n
-    return dataclasses.replace(samples, time=time, dacc=samples.dacc + step)
-
-
-def test_a_swing_across_slots_is_caught_before_against_after():
-    """Untouched case 9260143 (session 54, a gust): ``spring_anchor`` was named. Fitted in flight
-    it left units of about +0.15 m/s^2 in the ten before 0.5 s and -0.73, -1.02, -1.48 after, in
-    two slots (two units and one): no slot held three units, so no slot was tested. The units
-    below are that case's (episode, slot, samples, median residual x and y in m/s^2); before
-    against after, with the variance pooled, they differ at t = 9.5."""
-    eff = EFFECTS.get("constant_acceleration")()
-    scene, eps = _episodes(False, n=6)
-    samples = flight_samples(scene, eps)  # about 0.5 m/s^2 missing, constant in time
-    units = [(0, 0, 0, 0.107, -0.018), (0, 1, 9, 0.334, 0.031), (1, 0, 0, 0.166, 0.041), (1, 1, 15, 0.292, -0.027),
-             (2, 0, 0, 0.027, 0.038), (3, 0, 0, -0.018, 0.005), (3, 1, 25, 0.226, -0.006), (3, 2, 7, -0.731, -0.081),
-             (3, 3, 9, -1.022, -0.003), (4, 0, 0, 0.113, -0.039), (4, 1, 4, 0.317, 0.006), (5, 0, 0, -0.080, 0.037),
-             (5, 1, 23, 0.133, 0.006), (5, 3, 15, -1.475, -0.032)]
-    s = _with_units(samples, units)
-    ctx = context_for(scene, eps)
-    found = flight_drift(s, eff, s.dacc.mean(axis=0), scene, ctx)
-    assert found is not None and found.param == "x" and found.split == "before 0.50 s"
-    assert found.late < -0.9 < 0 < found.early and "before 0.50 s" in found.reason()
-    # the slots alone do not see it: no slot after 0.5 s holds three units
-    names = [n for n, _ in drift.flight_contrasts(np.array([u[1] for u in units]))]
-    assert [n for n in names if n.startswith("time")] == ["time 0.00 s", "time 0.25 s"]
-    # the same units without the swing are no drift
-    flat = [(e, k, n, x if k < 2 else 0.15, y) for e, k, n, x, y in units]
-    assert flight_drift(_with_units(samples, flat), eff, samples.dacc.mean(axis=0) + [0.15, 0], scene, ctx) is None
-
-
-def test_flight_contrasts_are_each_split_once():
-    lab = np.array([0, 0, 0, 1, 1, 1, 2, 2, 2, 3, 3, 3])  # (U,) four slots of three units
-    got = drift.flight_contrasts(lab)
-    assert [n for n, _ in got] == ["time 0.00 s", "time 0.25 s", "time 0.50 s", "time 0.75 s", "before 0.50 s"]
-    assert got[-1][1].tolist() == [True] * 6 + [False] * 6
-    assert drift.flight_contrasts(np.array([0, 0, 1, 1, 1])) == []  # a side needs three units

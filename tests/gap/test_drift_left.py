@@ -8,7 +8,8 @@ import numpy as np
 
 import voe.gap.drift as drift
 from voe.gap import GapFinder
-from voe.gap.drift import Drift, drift_step
+from voe.gap.drift import drift_step
+from voe.gap.drift_base import Drift
 from voe.gap.effects import EFFECTS
 from voe.gap.effects.base import EffectSum
 from voe.gap.folds import as_sum

@@ -44,97 +44,34 @@ two estimates of the same estimator, so it needs the same spread the intervals n
 development case 8587095: a true joint damping (0.0486, expressed in 19 of 20 windows) was dropped
 at z = 5.8 (critical 4.8) for 0.0324 in the six windows centred 2.2 s against 0.0477 elsewhere,
 32 % of its strength; widened, z = 2.9, and it is reported (0.0481). A constant fitted to a gust
-or a floor patch is caught mostly in flight (``flight_drift``, t-tests on one residual per
+or a floor patch is caught mostly in flight (``voe.gap.drift_flight``, t-tests on one residual per
 episode and slot, each slot against the rest and the time before each slot boundary against the
 time after, not widened: that spread is measured across independent units).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 import numpy as np
-from scipy.optimize import least_squares
 
 from voe.gap.check import Checked, model_intervals, verify_on_test
+from voe.gap.drift_base import MATERIAL, Drift, critical
+from voe.gap.drift_flight import flight_drift, flight_movers
 from voe.gap.effects.base import Effect, EffectSum, FitContext
 from voe.gap.fit import FitResult, effect_key
 from voe.gap.folds import as_sum, without
 from voe.gap.nuisance import profiled_terms
 from voe.gap.parallel import Ahead
 from voe.gap.parametric import SPREAD
-from voe.gap.prefit import FlightSamples, _missing, flight_samples, seen_missing
+from voe.gap.prefit import flight_samples
 from voe.gap.shooting import Shooter, Window, make_windows
 from voe.gap.stages import GapConfig, Location, Problem, Search, fit_context
 from voe.gap.uncertainty import established, window_terms
-from voe.sim.scenefile import SceneSpec
 
-ALPHA = 0.05  # family-wise over every slot and parameter of a model (Bonferroni), as the null's alpha
 SLOT = 0.25  # s of episode time (the windows' stride): windows centred within one slot form a subsample
 N_BOOT = 200
 MIN_WINDOWS = 3  # per side: the bootstrap spread of two windows can be near zero by chance
-FLIGHT_SLOT = 0.25  # s of episode time
-OUTLIER = 10.0  # robust sds from the median: a unit this far off holds a touch labelled flight
-#: Samples an episode's slot needs to count as a unit of ``flight_drift``: three, the fewest whose
-#: median withstands one sample far off (next to an unlabelled touch). Each sample is already a
-#: 0.25 s average (``voe.gap.prefit.HALF``), so more samples of one stretch add little.
-MIN_UNIT = 3
-#: A flight drift must be at least this fraction of the missing acceleration it is part of.
-#: Session 9, on dev seeds: a constant acceleration fitted to each of the 12 zero-mean gusts of
-#: seeds 5151, 6263 and 7741 leaves a slot differing by 0.89-2.39 times the median missing
-#: acceleration (the gust's own swing); right effects fitted slightly off left 0.04 (7741009,
-#: quadratic drag) and 0.12 (7741041, a constant acceleration of 0.57 m/s^2 dropped at 0.1).
-#: 0.3 lies between the two, near their geometric middle.
-MATERIAL = 0.3
-#: Parameter drifts are held to the same floor, relative to the part's strength (each side's
-#: distance from the nominal value; parameters without one, such as positions, have no floor).
-#: Session 14, development cases of seed 7857 where a right effect was dropped as drifting: a
-#: linear drag (7857006, true c = 0.217) at 0.195 in the windows centred 0.5 s against 0.219
-#: elsewhere (z = 5.4, a difference of 11 % of the strength) and a joint friction (7857057, true
-#: 0.029) at 0.031 against 0.026 (z = 5.0, 18 %): fits on a quarter-second slot carry start-state
-#: errors that the windows' spread does not show. A constant fitted to a zero-mean gust differs
-#: between slots by about its own size or more.
-
-
-def critical(df: int, n_tests: int, alpha: float | None = None) -> float:
-    """Two-sided Student-t critical value at ``alpha / n_tests``.
-
-    Why t and not normal: a side's spread is estimated from a few windows (3 to 12), and with
-    normal quantiles a true linear drag at its true value (development case 8019) drifted at
-    z = 5.3 between a slot of 4 windows and the rest.
-    """
-    from scipy.stats import t as student
-
-    alpha = ALPHA if alpha is None else alpha
-    return float(student.ppf(1 - alpha / (2 * max(n_tests, 1)), max(df, 1)))
-
-
-@dataclass(frozen=True)
-class Drift:
-    """One part's worst parameter difference between two subsamples of windows."""
-
-    part: int
-    param: str
-    split: str  # "time A s": the windows (flight: units) at A s into the episodes against the rest; flight only,
-    # "before A s": the units before A s against those from A s on (``flight_contrasts``)
-    early: float
-    late: float
-    z: float
-
-    flight: bool = False  # from the free-flight residual (``flight_drift``), not the parameters
-
-    def reason(self) -> str:
-        if self.flight:
-            at = self.split.split(' ', 1)[1]
-            where = (f"before {at} into the episodes differs from the times after" if self.split.startswith("before")
-                     else f"in the slot starting {at} into the episodes differs from the other times")
-            return (f"in free flight the acceleration left unexplained {where} ({self.param}: {self.early:.3g} against "
-                    f"{self.late:.3g} m/s^2, t = {self.z:.1f}, family-wise p < {ALPHA:g}): what is missing changes in "
-                    f"time, which no library effect does")
-        what = f"the windows centred {self.split.split(' ', 1)[1]} into the episodes and on the others"
-        return (f"fitted on {what} it differs ({self.param} = {self.early:.3g} against {self.late:.3g}, "
-                f"{self.z:.0f} standard deviations apart, family-wise p < {ALPHA:g}): it changes in "
-                f"time, which no library effect does")
 
 
 def split_estimates(hs: np.ndarray, gs: np.ndarray, params: np.ndarray, mask: np.ndarray, sl: slice,
@@ -252,7 +189,8 @@ def drift_found(p: Problem, model: FitResult, config: GapConfig, seed: int,
                 ctx: FitContext | None = None) -> list[Drift]:
     """The parts of ``model`` that drift: its parameters on the windows of one time slot against
     the others (``drifts``), and the parts that push bodies in flight when the flight residual
-    changes in time (``flight_drift``). ``ctx``: the fitting episodes' context, if the caller has it."""
+    changes in time (``voe.gap.drift_flight.flight_drift``). ``ctx``: the fitting episodes'
+    context, if the caller has it."""
     ctx = fit_context(p) if ctx is None else ctx
     length = config.fit_window / 2
     stride = length / 2
@@ -357,169 +295,3 @@ def drift_step(p: Problem, loc: Location, s: Search, c: Checked, config: GapConf
     nominal = model.effect.nominal(ctx) if model is not None else np.zeros(0)
     return replace(c, model=model, keys=tuple(keys), lower=lo, upper=hi, dropped=tuple(dropped), verification=ver,
                    test_note=note, nominal=nominal)
-
-
-
-
-def flight_drift(samples: FlightSamples | None, effect: Effect, params: np.ndarray, scene: SceneSpec,
-                 ctx: FitContext) -> Drift | None:
-    """Does the acceleration left over in free flight, after ``effect`` at ``params``, change with
-    episode time? On one value per episode and slot (samples of one stretch are smoothed together,
-    so an episode's slot is one unit), per axis: a Welch t-test of each ``FLIGHT_SLOT`` slot's
-    residual against all others, and a pooled-variance t-test of the units before each slot
-    boundary against those after it (``flight_contrasts``), family-wise ``ALPHA`` over contrasts
-    and axes.
-
-    Why the before/after contrasts (session 55): a gust swings over a second or more, so the
-    residual a library effect leaves is of one sign for several slots and of the other after;
-    one slot against the rest halves that difference and, with three units on its side, a
-    Welch test has about two degrees of freedom. Untouched case 9260143 (a gust named
-    ``spring_anchor``) left units of 0.03 to 0.33 m/s^2 in the ten before 0.5 s and -0.73, -1.02
-    and -1.48 after, in two slots of one and two units: the late swing was in no slot tested; before
-    against after, t = 9.5 on 11 degrees of freedom. The variance is pooled because a side of three units cannot
-    estimate its own (Welch's t there needs t > 8.8 at this family-wise level); each side spans at
-    least two slots, so the spread pooled is that of units at several times. Counted on the gusts
-    of twenty development seeds (120), each library effect that pushes in flight fitted in flight
-    (600 pairs): caught in 537 against 493 with the slot tests alone (4 lost to the larger family),
-    every library effect caught in 94 gusts against 85; the truth of 500 single-effect and 60
-    compound cases at its true parameters drifted in none, with or without (docs/gap-findings.md,
-    session 55).
-
-    A significant change must also be *material*: at least ``MATERIAL`` of the median missing
-    acceleration in flight (``|dacc|``, what the effect has to explain). Why: with hundreds of
-    flight samples a few hundredths of a m/s^2 are significant; untouched bench case 7741009 lost
-    a right ``quadratic_drag`` (selection gain 88 %, about 1 m/s^2 in flight) to a residual that
-    was -0.029 m/s^2 in one slot and 0.011 elsewhere (t = 3.7), the drag's small misfit changing
-    with the speed, and 7741041 a right ``constant_acceleration`` (gain 84 %, 0.57 m/s^2) to
-    -0.033 against 0.036 m/s^2 (t = 3.3). A gust fitted by a constant leaves a swing of the
-    gust's own size, about the median missing acceleration or more.
-
-    Why in flight: there the nominal acceleration is known exactly (gravity), so what is left is
-    the missing force per unit mass at a known time (``voe.gap.prefit``); a constant acceleration
-    fitted to a gust leaves the gust's swing, the same at the same time in every episode. The
-    effect's parameters are first refitted to the flight samples (``_flight_fit``): flight pins a
-    force down so tightly that the simulator fit's own small offset shows (a true linear drag
-    fitted 3 % off left 0.06 m/s^2 that changed with the speed, so with time, at t = 5.6).
-
-    ``samples`` should keep the frames around each sample (``flight_samples(..., around=True)``):
-    the effect's acceleration is then averaged over them as the recording's smoothing averaged
-    the true one (``voe.gap.prefit.seen_missing``). Why: development case 2758047, a true point
-    attractor, was dropped at t = 4.2 (x: -3.5 m/s^2 in the slot at 0.75 s against 1.2
-    elsewhere) at its true parameters too. Its pull rises and falls within 0.1 s as a body
-    passes the point, and the 0.25 s smoothing spreads it: within 0.2 m of the point the
-    unsmoothed residual was 19 m/s^2 (median), and the bodies pass there at some times of the
-    episodes, not others. Smoothed alike, 0.17 m/s^2, the noise's size; a constant or a drag,
-    nearly constant over 0.25 s, is unchanged.
-    """
-    if samples is None or samples.time is None or len(samples) < 30:
-        return None
-    params = _flight_fit(samples, effect, params, scene, ctx)
-    acc, _ = seen_missing(effect, params, samples, scene)
-    res = samples.dacc - acc  # (N, 2)
-    slot = np.floor(samples.time / FLIGHT_SLOT).astype(int)
-    units, labels = [], []
-    for key in sorted(set(zip(samples.episode.tolist(), slot.tolist(), strict=True))):
-        m = (samples.episode == key[0]) & (slot == key[1])
-        if m.sum() >= MIN_UNIT:
-            units.append(np.median(res[m], axis=0))  # a sample next to an unlabelled touch is far off
-            labels.append(key[1])
-    if len(units) < 6:
-        return None
-    u = np.array(units)  # (U, 2)
-    mad = 1.4826 * np.median(np.abs(u - np.median(u, axis=0)), axis=0)  # (2,)
-    keep = np.all(np.abs(u - np.median(u, axis=0)) <= OUTLIER * np.maximum(mad, 1e-9), axis=1)
-    units, labels = list(u[keep]), list(np.array(labels)[keep])
-    if len(units) < 6:
-        return None
-    u, lab = np.array(units), np.array(labels)  # (U, 2), (U,)
-    floor = MATERIAL * float(np.median(np.linalg.norm(samples.dacc, axis=1)))  # m/s^2
-    tests = [(name, mask, j) for name, mask in flight_contrasts(lab) for j in range(2)]
-    worst = None
-    for name, mask, j in tests:
-        x, y = u[mask, j], u[~mask, j]
-        z, df = _t_pooled(x, y) if name.startswith("before") else _t_welch(x, y)
-        material = abs(x.mean() - y.mean()) >= floor
-        if material and z > critical(df, len(tests)) and (worst is None or z > worst.z):
-            worst = Drift(-1, "xy"[j], name, float(x.mean()), float(y.mean()), float(z), True)
-    return worst
-
-
-def flight_contrasts(lab: np.ndarray) -> list[tuple[str, np.ndarray]]:
-    """(name, (U,) mask) of the units ``flight_drift`` compares, given each unit's slot ``lab``:
-    "time A s", one slot against the rest, and "before A s", the units before a slot boundary
-    against those after it; each side at least three units, no split twice (the first boundary's
-    is the first slot's, the last's the last slot's)."""
-    slots = np.unique(lab)
-    cands = [(f"time {a * FLIGHT_SLOT:.2f} s", lab == a) for a in slots]
-    cands += [(f"before {a * FLIGHT_SLOT:.2f} s", lab < a) for a in slots[1:]]
-    out: list[tuple[str, np.ndarray]] = []
-    for name, m in cands:
-        if 3 <= m.sum() <= len(lab) - 3 and not any(np.array_equal(m, k) or np.array_equal(m, ~k) for _, k in out):
-            out.append((name, m))
-    return out
-
-
-def _t_welch(x: np.ndarray, y: np.ndarray) -> tuple[float, int]:
-    """|t| and Welch-Satterthwaite degrees of freedom (floored) of the difference of two means."""
-    vx, vy = x.var(ddof=1) / len(x), y.var(ddof=1) / len(y)
-    if vx + vy <= 0:
-        return 0.0, 1
-    df = (vx + vy) ** 2 / (vx**2 / (len(x) - 1) + vy**2 / (len(y) - 1))
-    return float(abs(x.mean() - y.mean()) / np.sqrt(vx + vy)), int(np.floor(df))
-
-
-def _t_pooled(x: np.ndarray, y: np.ndarray) -> tuple[float, int]:
-    """|t| and degrees of freedom of the difference of two means, the variance pooled."""
-    df = len(x) + len(y) - 2
-    sp = np.sqrt(((len(x) - 1) * x.var(ddof=1) + (len(y) - 1) * y.var(ddof=1)) / df)
-    if sp <= 0:
-        return 0.0, df
-    return float(abs(x.mean() - y.mean()) / (sp * np.sqrt(1 / len(x) + 1 / len(y)))), df
-
-
-def _flight_fit(samples: FlightSamples, effect: Effect, params: np.ndarray, scene: SceneSpec,
-                ctx: FitContext) -> np.ndarray:
-    """``params`` refitted by a robust regression of ``effect``'s accelerations on the flight
-    samples' (the other parameters do not act in flight and stay)."""
-    lo, hi = effect.bounds(ctx)
-    lo_f, hi_f = np.where(np.isfinite(lo), lo, -1e6), np.where(np.isfinite(hi), hi, 1e6)
-    x0 = np.clip(params, lo_f + 1e-9 * np.maximum(1, np.abs(lo_f)), hi_f - 1e-9 * np.maximum(1, np.abs(hi_f)))
-    noise = 1.4826 * np.median(np.abs(samples.dacc - np.median(samples.dacc, axis=0)))
-
-    def resid(p: np.ndarray) -> np.ndarray:
-        return (seen_missing(effect, p, samples, scene)[0] - samples.dacc).reshape(-1)
-
-    try:
-        r = least_squares(resid, x0, bounds=(lo_f, hi_f), x_scale=effect.scale(ctx), loss="soft_l1",
-                          f_scale=max(3 * noise, 1e-3), max_nfev=60)
-    except ValueError:
-        return params
-    return r.x if np.all(np.isfinite(r.x)) else params
-
-
-def flight_movers(samples: FlightSamples | None, effect: Effect, params: np.ndarray, scene: SceneSpec,
-                  ctx: FitContext) -> list[int]:
-    """Parts of ``effect`` whose parameters change the linear acceleration in flight.
-
-    Why: only those can have taken up a force in flight. A rolling resistance (a force, but only
-    in contact) or a spin damping (a torque) cannot; development case 5151007 (a rolling
-    resistance and a box mass) lost its right ``rolling_resistance`` to a flight residual of
-    0.05 m/s^2 that the box mass left, and ended ``consistent``.
-    """
-    if samples is None or not len(samples):
-        return []
-    base = _missing(effect, params, samples, scene)[0]
-    scale = effect.scale(ctx)
-    out, i = [], 0
-    for k, e in enumerate(effect.parts if isinstance(effect, EffectSum) else (effect,)):
-        sl = slice(i, i + e.n_params)
-        i += e.n_params
-        if not (e.has_forces and e.flight_regression):
-            continue
-        for j in range(sl.start, sl.stop):
-            q = params.copy()
-            q[j] += scale[j]
-            if np.max(np.abs(_missing(effect, q, samples, scene)[0] - base)) > 1e-9:
-                out.append(k)
-                break
-    return out

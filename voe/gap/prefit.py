@@ -181,7 +181,7 @@ def seen_missing(effect: Effect, params: np.ndarray, s: FlightSamples,
     the smoothing's own weights (``smoothing_kernel``); ``_missing`` itself if the samples keep no
     frames around. Why: a residual against the unsmoothed value is the smoothing's bias wherever
     the force changes within the span, a bias that lies where the bodies pass, so at the times
-    they pass (``voe.gap.drift.flight_drift``)."""
+    they pass (``voe.gap.drift_flight.flight_drift``)."""
     if s.around is None or s.kernel is None:
         return _missing(effect, params, s, scene)
     n, n_k = len(s), len(s.kernel)
