@@ -168,4 +168,28 @@ def test_flight_contrasts_are_each_split_once():
     got = drift_flight.flight_contrasts(lab)
     assert [n for n, _ in got] == ["time 0.00 s", "time 0.25 s", "time 0.50 s", "time 0.75 s", "before 0.50 s"]
     assert got[-1][1].tolist() == [True] * 6 + [False] * 6
-    assert drift_flight.flight_contrasts(np.array([0, 0, 1, 1, 1])) == []  # a side needs three units
+    # a slot against the rest needs three units a side, a before/after split two (since session 56)
+    assert [n for n, _ in drift_flight.flight_contrasts(np.array([0, 0, 1, 1, 1]))] == ["before 0.25 s"]
+    assert drift_flight.flight_contrasts(np.array([0, 1, 1, 1, 1])) == []
+
+
+def test_a_late_swing_flown_by_two_episodes_is_caught(monkeypatch):
+    """Development case 1066143 (a gust, named ``point_attractor`` by the untouched run of session
+    45): fitted in flight, a constant left units near 0 up to 0.5 s and 0.77 and 0.99 m/s^2 after,
+    in the last slot's two units only, and a side of three units tested no split there. The units
+    below are that case's (episode, slot, samples, median residual x and y in m/s^2)."""
+    eff = EFFECTS.get("constant_acceleration")()
+    scene, eps = gusty_episodes(False, n=6)
+    samples = flight_samples(scene, eps)  # about 0.5 m/s^2 missing, constant in time
+    units = [(0, 0, 0, 0.001, 0.034), (1, 0, 0, -0.097, 0.128), (1, 1, 10, 0.053, -0.081), (2, 0, 0, -0.083, -0.098),
+             (2, 2, 3, 0.769, 0.009), (3, 0, 0, -0.153, -0.051), (3, 1, 6, 0.055, 0.071), (4, 0, 0, -0.165, -0.008),
+             (4, 1, 23, 0.113, -0.005), (5, 0, 0, -0.099, -0.005), (5, 1, 9, 0.002, 0.024), (5, 2, 6, 0.988, -0.062)]
+    s = _with_units(samples, units)
+    ctx = context_for(scene, eps)
+    found = flight_drift(s, eff, s.dacc.mean(axis=0), scene, ctx)
+    assert found is not None and found.param == "x" and found.split == "before 0.50 s" and found.late > 0.8
+    monkeypatch.setattr(drift_flight, "SPLIT_SIDE", 3)  # three units a side (session 55) miss it
+    assert flight_drift(s, eff, s.dacc.mean(axis=0), scene, ctx) is None
+    monkeypatch.undo()
+    flat = [(e, k, n, x if k < 2 else 0.0, y) for e, k, n, x, y in units]  # without the swing: no drift
+    assert flight_drift(_with_units(samples, flat), eff, samples.dacc.mean(axis=0), scene, ctx) is None
