@@ -191,7 +191,7 @@ def test_flight_contrasts_are_each_split_once():
     got = drift_flight.flight_contrasts(lab)
     assert [n for n, _ in got] == ["time 0.00 s", "time 0.25 s", "time 0.50 s", "time 0.75 s", "before 0.50 s"]
     assert got[-1][1].tolist() == [True] * 6 + [False] * 6
-    # a slot against the rest needs three units a side, a before/after split two (since session 56)
+    # a slot against the rest needs three units a side, a before/after split two (since session 57)
     assert [n for n, _ in drift_flight.flight_contrasts(np.array([0, 0, 1, 1, 1]))] == ["before 0.25 s"]
     assert drift_flight.flight_contrasts(np.array([0, 1, 1, 1, 1])) == []
 

@@ -132,12 +132,14 @@ def flight_contrasts(lab: np.ndarray) -> list[tuple[str, np.ndarray]]:
     ``SPLIT_SIDE``); no split twice (the first boundary's is the first slot's, the last's the last
     slot's).
 
-    Since session 56 a before/after side needs two units, not three (``SPLIT_SIDE``), so the late
+    Since session 57 a before/after side needs two units, not three (``SPLIT_SIDE``), so the late
     side may be the last slot's two units alone; a side usually spans two slots or more.
     Development gusts 5025141 and 1066143 swung late, in the last slot's two units only, and were
-    named; with two, 98 of 120 development gusts had every library effect caught against 94, and
-    the truth at its true parameters drifted in none of 500 singles and 60 compounds (one unit a
-    side caught 104 but dropped three true single effects; docs/gap-findings.md, session 56)."""
+    named; with two, 98 of 120 development gusts had every library effect caught against 94. A
+    side of two units must also differ by twice the material floor (``SHORT_SIDE_FLOOR``): without
+    it the truth at its true parameters drifted in one of 700 singles (9260067), with it in none,
+    nor in 60 compounds (one unit a side caught 104 but dropped five true single effects;
+    docs/gap-findings.md, sessions 56-57)."""
     slots = np.unique(lab)
     cands = [(f"time {a * FLIGHT_SLOT:.2f} s", lab == a, SLOT_SIDE) for a in slots]
     cands += [(f"before {a * FLIGHT_SLOT:.2f} s", lab < a, SPLIT_SIDE) for a in slots[1:]]
