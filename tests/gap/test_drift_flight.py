@@ -163,7 +163,6 @@ def test_a_swing_across_slots_is_caught_before_against_after():
     assert flight_drift(_with_units(samples, flat), eff, samples.dacc.mean(axis=0) + [0.15, 0], scene, ctx) is None
 
 
-
 def test_two_short_late_stretches_of_a_right_effect_are_no_drift(monkeypatch):
     """Development case 9260067 (a true ``constant_acceleration``, session 57): with a before/after
     side of two units, its truth was dropped in the finder's first look for two stretches of 4
@@ -185,6 +184,7 @@ def test_two_short_late_stretches_of_a_right_effect_are_no_drift(monkeypatch):
     monkeypatch.setattr(drift_flight, "SHORT_SIDE_FLOOR", 1.0)  # the floor alone: the false drop
     found = flight_drift(s, eff, s.dacc.mean(axis=0), scene, ctx)
     assert found is not None and found.param == "y" and found.split == "before 1.00 s"
+
 
 def test_flight_contrasts_are_each_split_once():
     lab = np.array([0, 0, 0, 1, 1, 1, 2, 2, 2, 3, 3, 3])  # (U,) four slots of three units
