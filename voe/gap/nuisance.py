@@ -1,4 +1,5 @@
-"""One window's Gauss-Newton terms with its estimated start velocity profiled out.
+"""A window's estimated start velocity as a nuisance: profiled out of its Gauss-Newton terms, or
+projected out of its residual.
 
 Why: a window starts from a state estimated from the recording (``voe.gap.shooting.local_state``),
 and its velocity error can look like an effect. A rolling ball makes this systematic: its linear
@@ -15,6 +16,10 @@ or true linear velocity (ep 4) put back, they prefer 0.183 again. The drift test
 Profiling (the Schur complement of the velocity block of the window's curvature) asks what the
 window says about the parameters whatever its start velocity, as a fit that also freed the
 start velocity would.
+
+Projecting (``projected_sse``) asks the same of a window's error itself: what is left of the
+residual once every change a start-velocity error could make is taken out. ``voe.gap.profile``
+asks a saturating part's nominal value with it (see ``voe.gap.profile.nominal_side``).
 """
 
 from __future__ import annotations
@@ -27,6 +32,7 @@ from voe.gap.shooting import Shooter, Window
 
 DV = 0.01  # m/s (angular: per sqrt(I/m) metres) finite-difference step of a start velocity
 RCOND = 1e-9  # relative cut of the velocity block's pseudo-inverse (a velocity the window never shows)
+BASIS_RCOND = 1e-3  # relative cut of a window's velocity sensitivities (directions it barely shows)
 
 
 def profiled_terms(shooter: Shooter, sigma: np.ndarray, windows: list[Window], effect: Effect, params: np.ndarray,
@@ -84,3 +90,50 @@ def profiled_terms(shooter: Shooter, sigma: np.ndarray, windows: list[Window], e
         k = hpv @ np.linalg.pinv(hvv, rcond=RCOND, hermitian=True)  # (P, 3B)
         out.append((jpw.T @ jp - k @ hpv.T, jpw.T @ r0 - k @ (jvw.T @ r0)))
     return out
+
+
+def velocity_bases(shooter: Shooter, windows: list[Window], effect: Effect | None,
+                   params: np.ndarray | None) -> list[np.ndarray | None]:
+    """Per window an orthonormal basis (N, K) of how its residual (flattened (n, B, 3), metres)
+    moves with its start velocity, linearised under ``effect`` at ``params``; None for a window
+    whose prediction is not finite. The steps are ``profiled_terms``' (``DV`` per pose-equivalent
+    metre), all simulated side by side: 1 + 3B rollouts per window. Directions whose singular
+    value is below ``BASIS_RCOND`` of the window's largest are left out (a body at rest that
+    friction stops at once)."""
+    steps = (DV / shooter.scale).reshape(-1)  # (3B,) velocity steps
+    starts, times = [], []
+    for w in windows:
+        pose0, vel0 = shooter.initial(w.ep, w.k0)[:2]
+        times.append(shooter.episodes[w.ep].t[w.k0:w.k1 + 1])
+        starts.append((pose0, vel0))
+        for i, dv in enumerate(steps):
+            v = vel0.copy().reshape(-1)
+            v[i] += dv
+            starts.append((pose0, v.reshape(vel0.shape)))
+    rep = [t for t in times for _ in range(1 + steps.size)]
+    runs = run_many(shooter.scene, starts, rep, shooter.substep, effect, params)
+    shooter.n_rollouts += len(starts)
+    out: list[np.ndarray | None] = []
+    for i in range(len(windows)):
+        base = runs[i * (1 + steps.size)] * shooter.scale[None]  # (n, B, 3)
+        cols = np.stack([((runs[i * (1 + steps.size) + 1 + k] * shooter.scale[None]) - base).reshape(-1) / dv
+                         for k, dv in enumerate(steps)], axis=1)  # (N, 3B)
+        if not np.all(np.isfinite(cols)):
+            out.append(None)
+            continue
+        u, s, _ = np.linalg.svd(cols, full_matrices=False)
+        out.append(u[:, s > BASIS_RCOND * max(float(s.max()), 1e-300)])
+    return out
+
+
+def projected_sse(shooter: Shooter, windows: list[Window], bases: list[np.ndarray | None], effect: Effect | None,
+                  params: np.ndarray | None) -> np.ndarray:
+    """(W,) each window's sum of squared residuals (``voe.gap.shooting.window_sse``) with its
+    start-velocity directions ``bases`` (``velocity_bases``) projected out; a window without a
+    basis keeps its plain sum."""
+    out = []
+    for r, q in zip(shooter.residuals(windows, effect, params), bases, strict=True):
+        v = r.reshape(-1)
+        e = v if q is None else v - q @ (q.T @ v)
+        out.append(float(e @ e))
+    return np.array(out)
