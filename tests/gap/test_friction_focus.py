@@ -57,9 +57,13 @@ def test_a_sparse_part_on_a_dense_one_lets_the_dense_one_settle():
     top of round 0's drag, the drag held, fitted 1.35 and gained 39.8 % on the selection windows,
     below ``friction_region`` (48.0 % at the fit that won, the drag refitted to 0.198), so the
     patch was named. With the drag settled on the training windows after the friction's fit, the
-    whole-floor friction predicts those windows better than the patch."""
-    from voe.gap.effects.base import EffectSum
+    whole-floor friction predicts those windows better than the patch.
 
+    Since session 61 (restarts from the half-step start velocity) the two tie on these windows
+    (friction 53.2 %, the patch's own fit 53.7 %; before, 55.0 % against 48.0 %), within the group
+    tolerance, and the finder names ``quadratic_drag`` and ``friction``
+    (docs/bench-runs/dev-s61/trace_half_8367135.txt). With the drag held the friction was 8 points
+    short."""
     seed = 8367135
     case = make_case(np.random.default_rng(seed), "quadratic_drag+friction", 1e-3, 12, 3.0, noise_kind="white")
     cfg = GapConfig()
@@ -68,6 +72,5 @@ def test_a_sparse_part_on_a_dense_one_lets_the_dense_one_settle():
     drag = data.fit_candidate(None, EFFECTS.get("quadratic_drag")())
     res = data.fit_candidate(drag, EFFECTS.get("friction")())
     assert abs(res.params[0] - 0.193) < abs(drag.params[0] - 0.193)  # the drag moved towards its truth
-    patch = EffectSum((EFFECTS.get("quadratic_drag")(), EFFECTS.get("friction_region")()))
-    won = data.heldout_sse(patch, tuple(np.array([0.1982, 2.2197, -0.7457, 2.8465]) for _ in data.folds))
-    assert window_gain(drag.window_sse, res.window_sse) > window_gain(drag.window_sse, won)
+    patch = data.fit_candidate(drag, EFFECTS.get("friction_region")())
+    assert window_gain(drag.window_sse, res.window_sse) > window_gain(drag.window_sse, patch.window_sse) - 0.01

@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from voe.gap.bench import make_case
+from voe.gap.departure import ALPHA
 from voe.gap.finder import GapFinder
 from voe.gap.jitter import jitter_noise, timing_jitter
 from voe.gap.recordings import load_recordings
@@ -64,10 +65,13 @@ def test_jitter_noise_is_velocity_times_the_time_error():
 def test_clean_jittered_cases_are_not_called_unexplained():
     """Development cases 6685247 and 1078255 (clean, jittered): against replicates with the noise
     model alone (ffc6ae3, the finder's own draws) they were located (5 and 3 stretches) with departure
-    p 0.0001 and 0.001, so ``unexplained`` for clean recordings; with the jitter reproduced, p is 0.21
-    and 0.26."""
+    p 0.0001 and 0.001, so ``unexplained`` for clean recordings; with the jitter reproduced, p was 0.21
+    and 0.26, and since session 61 (restarts from the half-step start velocity) 0.026 and 0.26: above
+    the departure test's ``ALPHA``, so not ``unexplained``. A draw: of 40 other clean jittered cases
+    of the same seeds (6685300-319, 1078300-319; docs/bench-runs/dev-s61/jitter_p_*.txt) none fell
+    below ``ALPHA`` and one below 0.05, with the half step or without it."""
     for seed in (6685247, 1078255):
         case = make_case(np.random.default_rng(seed), "none", noise_kind="jitter")
         p = prepare(case.scene, case.episodes, GapFinder(seed=seed).effects, GapConfig())
         assert p.jitter is not None
-        assert locate_step(p, GapConfig(), np.random.default_rng(seed)).departure_p > 0.05, seed
+        assert locate_step(p, GapConfig(), np.random.default_rng(seed)).departure_p > ALPHA, seed

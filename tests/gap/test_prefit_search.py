@@ -71,7 +71,11 @@ def test_point_attractor_fit_stays_in_its_valley():
     res = fitter.fit(eff, starts)
     assert res.train_cost <= fitter.cost(eff, starts[0]) + 1e-9
     assert res.train_cost < 0.5 * fitter.cost(None, None)
-    np.testing.assert_allclose(res.params[1:], ATTRACTOR[1:], atol=0.25)
+    # in the truth's valley: as low as the truth itself (the noise moves the floor: k and the point's
+    # y trade off, fitted 1.69 and -0.23 against 2.0 and -0.5 at a cost 4 % below the truth's), and
+    # within half a metre of the true point, where the failure went 2 m away
+    assert res.train_cost <= fitter.cost(eff, np.array(ATTRACTOR))
+    assert np.linalg.norm(res.params[1:] - np.array(ATTRACTOR[1:])) < 0.5
 
 
 def test_flight_samples_need_flight():

@@ -57,7 +57,7 @@ def flight_drift(samples: FlightSamples | None, effect: Effect, params: np.ndarr
     against after, t = 9.5 on 11 degrees of freedom. The variance is pooled because a side of three units cannot
     estimate its own (Welch's t there needs t > 8.8 at this family-wise level); a side usually
     spans two slots or more, so the spread pooled is that of units at several times (a side may be
-    two units since session 56, ``SPLIT_SIDE``). Counted on the gusts
+    two units since session 57, ``SPLIT_SIDE``). Counted on the gusts
     of twenty development seeds (120), each library effect that pushes in flight fitted in flight
     (600 pairs): caught in 537 against 493 with the slot tests alone (4 lost to the larger family),
     every library effect caught in 94 gusts against 85; the truth of 500 single-effect and 60
@@ -96,22 +96,10 @@ def flight_drift(samples: FlightSamples | None, effect: Effect, params: np.ndarr
     params = _flight_fit(samples, effect, params, scene, ctx)
     acc, _ = seen_missing(effect, params, samples, scene)
     res = samples.dacc - acc  # (N, 2)
-    slot = np.floor(samples.time / FLIGHT_SLOT).astype(int)
-    units, labels = [], []
-    for key in sorted(set(zip(samples.episode.tolist(), slot.tolist(), strict=True))):
-        m = (samples.episode == key[0]) & (slot == key[1])
-        if m.sum() >= MIN_UNIT:
-            units.append(np.median(res[m], axis=0))  # a sample next to an unlabelled touch is far off
-            labels.append(key[1])
-    if len(units) < 6:
+    got = flight_units(samples, res)
+    if got is None:
         return None
-    u = np.array(units)  # (U, 2)
-    mad = 1.4826 * np.median(np.abs(u - np.median(u, axis=0)), axis=0)  # (2,)
-    keep = np.all(np.abs(u - np.median(u, axis=0)) <= OUTLIER * np.maximum(mad, 1e-9), axis=1)
-    units, labels = list(u[keep]), list(np.array(labels)[keep])
-    if len(units) < 6:
-        return None
-    u, lab = np.array(units), np.array(labels)  # (U, 2), (U,)
+    u, lab = got  # (U, 2), (U,)
     floor = MATERIAL * float(np.median(np.linalg.norm(samples.dacc, axis=1)))  # m/s^2
     tests = [(name, mask, j) for name, mask in flight_contrasts(lab) for j in range(2)]
     worst = None
@@ -123,6 +111,32 @@ def flight_drift(samples: FlightSamples | None, effect: Effect, params: np.ndarr
         if material and z > critical(df, len(tests)) and (worst is None or z > worst.z):
             worst = Drift(-1, "xy"[j], name, float(x.mean()), float(y.mean()), float(z), True)
     return worst
+
+
+def flight_units(samples: FlightSamples, res: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+    """The units ``flight_drift`` tests: per episode and ``FLIGHT_SLOT`` slot with at least
+    ``MIN_UNIT`` samples, the median of the residual acceleration ``res`` (N, 2), units further
+    than ``OUTLIER`` MADs from the median on either axis left out. Returns the (U, 2) units and
+    their (U,) slots, or None with fewer than six.
+
+    Why the median and the outlier cut: a sample next to a touch the recording did not label is
+    far off, and one such unit would otherwise decide a contrast of a few units.
+    """
+    slot = np.floor(samples.time / FLIGHT_SLOT).astype(int)  # (N,)
+    units, labels = [], []
+    for key in sorted(set(zip(samples.episode.tolist(), slot.tolist(), strict=True))):
+        m = (samples.episode == key[0]) & (slot == key[1])
+        if m.sum() >= MIN_UNIT:
+            units.append(np.median(res[m], axis=0))
+            labels.append(key[1])
+    if len(units) < 6:
+        return None
+    u = np.array(units)  # (U, 2)
+    mad = 1.4826 * np.median(np.abs(u - np.median(u, axis=0)), axis=0)  # (2,)
+    keep = np.all(np.abs(u - np.median(u, axis=0)) <= OUTLIER * np.maximum(mad, 1e-9), axis=1)
+    if keep.sum() < 6:
+        return None
+    return u[keep], np.array(labels)[keep]
 
 
 def flight_contrasts(lab: np.ndarray) -> list[tuple[str, np.ndarray]]:

@@ -35,6 +35,24 @@ RCOND = 1e-9  # relative cut of the velocity block's pseudo-inverse (a velocity 
 BASIS_RCOND = 1e-3  # relative cut of a window's velocity sensitivities (directions it barely shows)
 
 
+def stepped_starts(shooter: Shooter, windows: list[Window]) -> tuple[list[tuple[np.ndarray, np.ndarray]],
+                                                                     list[np.ndarray], np.ndarray]:
+    """Each window's start (pose (B, 3), velocity (B, 3)) followed by the same start with one
+    velocity component stepped (``DV`` per pose-equivalent metre: angular steps ``DV`` / sqrt(I/m)),
+    1 + 3B starts per window; each window's sample times (n_i,); and the (3B,) steps."""
+    steps = (DV / shooter.scale).reshape(-1)  # (3B,) velocity steps
+    starts, times = [], []
+    for w in windows:
+        pose0, vel0 = shooter.initial(w.ep, w.k0)[:2]
+        times.append(shooter.episodes[w.ep].t[w.k0:w.k1 + 1])
+        starts.append((pose0, vel0))
+        for i, dv in enumerate(steps):
+            v = vel0.copy().reshape(-1)
+            v[i] += dv
+            starts.append((pose0, v.reshape(vel0.shape)))
+    return starts, times, steps
+
+
 def profiled_terms(shooter: Shooter, sigma: np.ndarray, windows: list[Window], effect: Effect, params: np.ndarray,
                    ctx: FitContext, f_scale: float = 3.0) -> list[tuple[np.ndarray, np.ndarray] | None]:
     """Per window, the (P, P) curvature and (P,) gradient of its soft-L1 cost at ``params``, its
@@ -46,20 +64,10 @@ def profiled_terms(shooter: Shooter, sigma: np.ndarray, windows: list[Window], e
     and steps are simulated side by side (``run_many``): 1 + 3B + P rollouts per window.
     """
     sc = shooter.scene
-    steps = DV / shooter.scale  # (B, 3) velocity steps
+    starts, times, steps = stepped_starts(shooter, windows)
     n_v = steps.size
-    starts, times, data, wts = [], [], [], []
-    for w in windows:
-        ep = shooter.episodes[w.ep]
-        pose0, vel0 = shooter.initial(w.ep, w.k0)[:2]
-        times.append(ep.t[w.k0:w.k1 + 1])
-        data.append(ep.pose[w.k0:w.k1 + 1])
-        wts.append(shooter.scale[None] / shooter.sigma_pred(w, sigma))  # (n, B, 3) metres, then noise units
-        starts.append((pose0, vel0))
-        for i in range(n_v):
-            v = vel0.copy().reshape(-1)
-            v[i] += steps.reshape(-1)[i]
-            starts.append((pose0, v.reshape(vel0.shape)))
+    data = [shooter.episodes[w.ep].pose[w.k0:w.k1 + 1] for w in windows]
+    wts = [shooter.scale[None] / shooter.sigma_pred(w, sigma) for w in windows]  # (n, B, 3) metres, then noise units
     rep = [t for t in times for _ in range(1 + n_v)]
     runs = run_many(sc, starts, rep, shooter.substep, effect, params)  # (1 + 3B) per window
     lo_b, hi_b = effect.bounds(ctx)
@@ -79,7 +87,7 @@ def profiled_terms(shooter: Shooter, sigma: np.ndarray, windows: list[Window], e
             return ((pred - data[i]) * wts[i]).reshape(-1)
 
         r0 = flat(runs[i * (1 + n_v)])
-        jv = np.stack([(flat(runs[i * (1 + n_v) + 1 + k]) - r0) / steps.reshape(-1)[k] for k in range(n_v)], axis=1)
+        jv = np.stack([(flat(runs[i * (1 + n_v) + 1 + k]) - r0) / steps[k] for k in range(n_v)], axis=1)
         jp = np.stack([(flat(moved[j][i]) - r0) / dps[j] for j in range(len(params))], axis=1)  # (N, P)
         if not (np.all(np.isfinite(r0)) and np.all(np.isfinite(jv)) and np.all(np.isfinite(jp))):
             out.append(None)
@@ -96,20 +104,11 @@ def velocity_bases(shooter: Shooter, windows: list[Window], effect: Effect | Non
                    params: np.ndarray | None) -> list[np.ndarray | None]:
     """Per window an orthonormal basis (N, K) of how its residual (flattened (n, B, 3), metres)
     moves with its start velocity, linearised under ``effect`` at ``params``; None for a window
-    whose prediction is not finite. The steps are ``profiled_terms``' (``DV`` per pose-equivalent
+    whose prediction is not finite. The starts are ``stepped_starts``' (``DV`` per pose-equivalent
     metre), all simulated side by side: 1 + 3B rollouts per window. Directions whose singular
     value is below ``BASIS_RCOND`` of the window's largest are left out (a body at rest that
     friction stops at once)."""
-    steps = (DV / shooter.scale).reshape(-1)  # (3B,) velocity steps
-    starts, times = [], []
-    for w in windows:
-        pose0, vel0 = shooter.initial(w.ep, w.k0)[:2]
-        times.append(shooter.episodes[w.ep].t[w.k0:w.k1 + 1])
-        starts.append((pose0, vel0))
-        for i, dv in enumerate(steps):
-            v = vel0.copy().reshape(-1)
-            v[i] += dv
-            starts.append((pose0, v.reshape(vel0.shape)))
+    starts, times, steps = stepped_starts(shooter, windows)
     rep = [t for t in times for _ in range(1 + steps.size)]
     runs = run_many(shooter.scene, starts, rep, shooter.substep, effect, params)
     shooter.n_rollouts += len(starts)

@@ -70,7 +70,7 @@ def replicate_errors(p, fit_ids: tuple[int, ...], window: float, effect: Effect,
 
     rng = np.random.default_rng([seed, 0x9A7])
     eps = [p.episodes[i] for i in fit_ids]
-    starts = [local_state(ep, 0, p.half)[:2] for ep in eps]
+    starts = [local_state(ep, 0, p.half, p.substep)[:2] for ep in eps]
     clean = run_many(p.scene, starts, [ep.t for ep in eps], p.substep, effect, params)  # (T, B, 3) each, once:
     out = []  # the replicates differ only in their noise
     for _ in range(n_rep):

@@ -132,6 +132,7 @@ def nominal_side(shooter: Shooter, sets: list[list[Window]], effect: Effect, par
     x = float(params[j])
     if not sets or not all(sets) or not np.isfinite(nom) or nom == x:
         return lo, hi
+
     def errors(k: int, p: np.ndarray) -> np.ndarray:  # (W_k,) window errors of set k
         if bases is None:
             return window_sse(shooter, sets[k], effect, p)

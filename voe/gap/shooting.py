@@ -34,8 +34,21 @@ class Window:
     k1: int
 
 
-def local_state(ep: Episode, k: int, half: int | None = None) -> tuple[np.ndarray, np.ndarray, float]:
-    """Smoothed pose and velocity at sample ``k`` from a local cubic fit.
+def local_state(ep: Episode, k: int, half: int | None = None, substep: float = 0.0) -> tuple[np.ndarray, np.ndarray, float]:
+    """Smoothed pose and velocity at sample ``k`` from a local cubic fit; with ``substep``, the
+    velocity the simulator must start from to follow the fitted path (the fit's velocity plus half
+    a substep of its acceleration).
+
+    Why the half step: pymunk (Chipmunk) moves each body with the velocity it had before the
+    step's velocity update, so over a stretch of constant acceleration a its positions run
+    x0 + v t + a t^2 / 2 - a dt t / 2, and the velocity read off positions is the simulator's
+    own minus a dt / 2. A window restarted from the velocity read off positions drifted by
+    a dt / 2 per second: 4.9 mm per second of window in flight at 1 ms substeps, with no noise
+    and no missing physics (docs/bench-runs/dev-s60/halfstep.py), enough to turn a knife-edge
+    impact the other way (development case 4497026, episode 7: restarted from the noise-free
+    state before t = 0.2 s the ball missed by 120-215 mm; with the half step, by 0.01 mm). A real,
+    continuous recording gives the continuous velocity, and the simulator started from it drifts
+    by the same amount, so the correction is the same.
 
     Returns:
         pose (B, 3), vel (B, 3), and the sum of squared time offsets used (for the velocity
@@ -51,7 +64,8 @@ def local_state(ep: Episode, k: int, half: int | None = None) -> tuple[np.ndarra
     coef = np.polyfit(tt / span, y, ORDER)  # (ORDER+1, B*3)
     b = ep.pose.shape[1]
     sxx = float(np.sum((tt - tt.mean()) ** 2))
-    return coef[-1].reshape(b, 3), coef[-2].reshape(b, 3) / span, sxx
+    vel = coef[-2].reshape(b, 3) / span + 0.5 * substep * (2.0 * coef[-3].reshape(b, 3) / span**2)  # (B, 3)
+    return coef[-1].reshape(b, 3), vel, sxx
 
 
 def noise_floor(episodes: list[Episode]) -> np.ndarray:
@@ -178,7 +192,7 @@ class Shooter:
     def initial(self, ep: int, k: int) -> tuple[np.ndarray, np.ndarray, float]:
         key = (ep, k)
         if key not in self._ic:
-            self._ic[key] = local_state(self.episodes[ep], k, self.half)
+            self._ic[key] = local_state(self.episodes[ep], k, self.half, self.substep)
         return self._ic[key]
 
     def simulate(self, win: Window, effect: Effect | None, params: np.ndarray | None) -> np.ndarray:

@@ -82,6 +82,6 @@ def nominal_motion(scene: SceneSpec, episodes: list[Episode], substep: float) ->
     """
     worlds = []
     for ep in episodes:
-        pose0, vel0, _ = local_state(ep, 0)
+        pose0, vel0, _ = local_state(ep, 0, None, substep)
         worlds.append(SimWorld(scene, pose0, vel0))
     return run_lockstep(worlds, [ep.t for ep in episodes], substep)
