@@ -94,3 +94,37 @@ def test_a_candidate_whose_fit_lost_its_round_is_asked_again_once_the_later_effe
     table["linear_drag"] = 0.95 * w  # lost nothing, passed nothing: not asked
     res = greedy(_TableFitter(table), cands, lambda r: 0.1, 3, set(), 1e-3)
     assert res.keys == ("quadratic_drag", "restitution")
+
+
+def test_the_swaps_run_in_processes_with_the_same_answer():
+    """The swaps are asked in ``n_jobs`` forked processes (every part's at once, a later part's
+    again after an earlier one was replaced); the answer and the rollout count are those of the
+    serial loop."""
+    from voe.gap.reselect import reselect
+
+    cands = {k: EFFECTS.get(k)() for k in ("spring_anchor", "constant_acceleration", "angular_damping")}
+    table = _table(0.05)
+    table["constant_acceleration+spring_anchor"] = 0.2 * table[""]  # round 2's constant passes too: two swaps
+    out = []
+    for n_jobs in (1, 2):
+        fitter = _TableFitter(table)
+        res = greedy_rounds(fitter, cands)
+        rounds = list(res.rounds)
+        model = fitter._result(tuple(cands[k] for k in ("spring_anchor", "angular_damping")))
+        fit = fitter.fit_candidate
+
+        def counting(current, cand, fit=fit, fitter=fitter):
+            fitter.shooter.n_rollouts += 1
+            return fit(current, cand)
+
+        fitter.fit_candidate = counting
+        got = reselect(fitter, model, ["spring_anchor", "angular_damping"], rounds, 0.05, n_jobs=n_jobs)
+        out.append((got[1], got[2], [r.basis for r in rounds], fitter.shooter.n_rollouts))
+    assert out[0][:3] == out[1][:3] and out[0][1] and out[0][0] == ["constant_acceleration", "angular_damping"]
+    assert out[1][3] == out[0][3] == 2  # both parts' swaps; the workers' rollouts are counted here
+
+
+def greedy_rounds(fitter, cands):
+    from voe.gap.greedy import greedy
+
+    return greedy(fitter, cands, lambda r: 0.1, 3, set(), 1e-3, lower_q=None)  # the rounds, not re-selected

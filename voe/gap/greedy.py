@@ -215,7 +215,7 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
             break
     changed = False
     if lower_q:  # each part asked again with the others in (``voe.gap.reselect``)
-        current, keys, changed = reselect(fitter, current, keys, rounds, q, by_pair)
+        current, keys, changed = reselect(fitter, current, keys, rounds, q, by_pair, n_jobs)
         if changed and on_model is not None:
             on_model(as_sum(current))
     return SearchResult(as_sum(current) if current is not None else None, tuple(rounds), tuple(keys), nominal_sse,

@@ -12,6 +12,13 @@ quantile 54.6 %), at (0.236, -0.902). A greedy search never revisits a round; th
 round's question again, once, with the answer of the later rounds known (a backward step of
 stepwise selection).
 
+The swaps are independent refits, so they run in the finder's ``n_jobs`` processes: every part's
+swaps against the search's model at once, and a later part's again only after an earlier part
+was replaced (the model they were asked against changed). Each swap is deterministic, so the
+answer does not depend on ``n_jobs``. Why: asked one after the other they cost ``bench/gap_speed.py``
+49 s of its 89 s (15 swaps of 3.3 s, after the half-step restart lowered the speed case's round
+threshold to the 5 % floor).
+
 Asked are the candidates that passed their round alone (gain above that round's null
 threshold) and those whose fit *lost* as much (gain below minus the threshold): the nominal
 value lies inside every candidate's bounds, so a fit that predicts the selection windows far
@@ -36,6 +43,7 @@ from voe.gap.effects.base import EffectSum
 from voe.gap.fit import FitResult
 from voe.gap.folds import FoldedFitter, without
 from voe.gap.search import Round, gain_lower_bound, window_gain
+from voe.parallel import parallel_map
 
 
 def swapped(fitter: FoldedFitter, model: FitResult, k: int, cand: FitResult) -> FitResult:
@@ -66,29 +74,59 @@ def swapped(fitter: FoldedFitter, model: FitResult, k: int, cand: FitResult) -> 
                    fold_params=tuple(moved(p) for p in res.fold_params))
 
 
+def _alternatives(rnd: Round, keys: list[str]) -> list[str]:
+    """The round's candidates asked in its winner's place: those that passed alone, or whose fit
+    lost as much (see the module), best first."""
+    return sorted((c for c, g in rnd.gains.items()
+                   if c not in keys and c in rnd.results and np.isfinite(g) and abs(g) > rnd.threshold),
+                  key=lambda c: -rnd.gains[c])
+
+
+def _swaps(fitter: FoldedFitter, model: FitResult, asks: list[tuple[int, Round, str]],
+           n_jobs: int) -> dict[tuple[int, str], FitResult]:
+    """``swapped`` for each (part, round, candidate), in ``n_jobs`` forked processes (they inherit
+    the fitter; the rollouts they simulate are counted here, as if run in this process)."""
+    def one(i: int) -> tuple[FitResult, int]:
+        k, rnd, c = asks[i]
+        n0 = fitter.shooter.n_rollouts
+        return swapped(fitter, model, k, rnd.results[c]), fitter.shooter.n_rollouts - n0
+
+    out = {}
+    for (k, _, c), (res, n) in zip(asks, parallel_map(one, range(len(asks)), n_jobs, start_method="fork"),
+                                   strict=True):
+        out[k, c] = res
+        if n_jobs > 1 and len(asks) > 1:
+            fitter.shooter.n_rollouts += n  # counted in the worker's copy
+    return out
+
+
 def reselect(fitter: FoldedFitter, model: FitResult | None, keys: list[str], rounds: list[Round],
-             q: float, fixed: set[str] = frozenset()) -> tuple[FitResult | None, list[str], bool]:
+             q: float, fixed: set[str] = frozenset(), n_jobs: int = 1) -> tuple[FitResult | None, list[str], bool]:
     """Ask each part of a model of two or more parts again (see the module). Returns the model,
     its keys (in part order) and whether anything changed; ``rounds`` is updated in place (the
     round of a replaced part names its new winner and says why).
 
     ``fixed``: parts not asked again, those a pair step accepted (together, because no single
     candidate passed their round on its own; a candidate that did was a trial the next round
-    refused, ``voe.gap.greedy.Trial``, and is not brought back here)."""
+    refused, ``voe.gap.greedy.Trial``, and is not brought back here). ``n_jobs``: processes for
+    the swaps (the answer does not depend on it)."""
     if model is None or len(keys) < 2:
         return model, keys, False
     changed = False
+    swaps: dict[tuple[int, str], FitResult] = {}
     for k, key in enumerate(list(keys)):
         at = next((i for i, r in enumerate(rounds) if r.winner == key), None)
         rnd = rounds[at] if at is not None else None
         if rnd is None or rnd.threshold is None or key in fixed:
             continue
-        alts = sorted((c for c, g in rnd.gains.items()
-                       if c not in keys and c in rnd.results and np.isfinite(g) and abs(g) > rnd.threshold),
-                      key=lambda c: -rnd.gains[c])  # passed alone, or its fit lost as much (see the module)
+        alts = _alternatives(rnd, keys)
+        if any((k, c) not in swaps for c in alts):  # not yet asked against this model: this part's
+            asks = [(k, rnd, c) for c in alts]       # and every later part's swaps at once
+            asks += [(j, r, c) for j, r in _later(rounds, keys, k, fixed) for c in _alternatives(r, keys)]
+            swaps = _swaps(fitter, model, asks, n_jobs)
         best: tuple[float, float, str, FitResult] | None = None
         for c in alts:
-            res = swapped(fitter, model, k, rnd.results[c])
+            res = swaps[k, c]
             g = window_gain(model.window_sse, res.window_sse)
             lo = gain_lower_bound(model.window_sse, res.window_sse, q=q)
             if g > rnd.threshold and lo > 0 and (best is None or g > best[0]):
@@ -103,4 +141,15 @@ def reselect(fitter: FoldedFitter, model: FitResult | None, keys: list[str], rou
                                          f"{100 * q:.0f} % bootstrap quantile {100 * lo:.1f} %, threshold "
                                          f"{100 * rnd.threshold:.1f} %)")
         model, keys, changed = res, keys[:k] + [c] + keys[k + 1:], True
+        swaps = {}  # asked against the model before this swap
     return model, keys, changed
+
+
+def _later(rounds: list[Round], keys: list[str], k: int, fixed: set[str]) -> list[tuple[int, Round]]:
+    """The parts after ``k`` that will be asked, with their rounds."""
+    out = []
+    for j in range(k + 1, len(keys)):
+        rnd = next((r for r in rounds if r.winner == keys[j]), None)
+        if rnd is not None and rnd.threshold is not None and keys[j] not in fixed:
+            out.append((j, rnd))
+    return out
