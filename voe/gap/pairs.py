@@ -28,8 +28,7 @@ from voe.gap.effects.base import EffectSum
 from voe.gap.fit import FitResult
 from voe.gap.folds import FoldedFitter
 from voe.gap.null import NullSearch
-from voe.gap.search import Round, gain_lower_bound, null_threshold, window_gain
-from voe.parallel import parallel_map
+from voe.gap.search import Round, counted_map, gain_lower_bound, null_threshold, window_gain
 
 PAIR_TOP = 3  # candidates of lowest training cost whose pairs are fitted (3 pairs)
 
@@ -84,17 +83,13 @@ def best_pair(fitter: FoldedFitter, results: dict[str, FitResult], current: FitR
     best: Pair | None = None
     pairs = list(combinations(ranked, 2))
 
-    def fit(ab: tuple[str, str]) -> tuple[FitResult, int]:
+    def fit(ab: tuple[str, str]) -> FitResult:
         ra, rb = results[ab[0]], results[ab[1]]
         parts = ra.effect.parts + (rb.effect.parts[-1],)
         starts = tuple(np.concatenate([pa, pb[n_cur:]]) for pa, pb in zip(ra.fold_params, rb.fold_params, strict=True))
-        n0 = fitter.shooter.n_rollouts
-        return fitter.refit(EffectSum(parts), starts), fitter.shooter.n_rollouts - n0
+        return fitter.refit(EffectSum(parts), starts)
 
-    fits = list(parallel_map(fit, pairs, n_jobs, start_method="fork"))  # forked workers inherit the fitter
-    if n_jobs > 1 and len(pairs) > 1:
-        fitter.shooter.n_rollouts += sum(n for _, n in fits)  # counted in the workers' copies
-    for (a, b), (res, _) in zip(pairs, fits, strict=True):
+    for (a, b), res in zip(pairs, counted_map(fitter, fit, pairs, n_jobs), strict=True):
         gain = window_gain(before_sse, res.window_sse)
         if np.isfinite(gain) and (best is None or gain > best.gain):
             best = Pair((a, b), res, float(gain))

@@ -42,8 +42,7 @@ import numpy as np
 from voe.gap.effects.base import EffectSum
 from voe.gap.fit import FitResult
 from voe.gap.folds import FoldedFitter, without
-from voe.gap.search import Round, gain_lower_bound, window_gain
-from voe.parallel import parallel_map
+from voe.gap.search import Round, counted_map, gain_lower_bound, window_gain
 
 
 def swapped(fitter: FoldedFitter, model: FitResult, k: int, cand: FitResult) -> FitResult:
@@ -84,20 +83,10 @@ def _alternatives(rnd: Round, keys: list[str]) -> list[str]:
 
 def _swaps(fitter: FoldedFitter, model: FitResult, asks: list[tuple[int, Round, str]],
            n_jobs: int) -> dict[tuple[int, str], FitResult]:
-    """``swapped`` for each (part, round, candidate), in ``n_jobs`` forked processes (they inherit
-    the fitter; the rollouts they simulate are counted here, as if run in this process)."""
-    def one(i: int) -> tuple[FitResult, int]:
-        k, rnd, c = asks[i]
-        n0 = fitter.shooter.n_rollouts
-        return swapped(fitter, model, k, rnd.results[c]), fitter.shooter.n_rollouts - n0
-
-    out = {}
-    for (k, _, c), (res, n) in zip(asks, parallel_map(one, range(len(asks)), n_jobs, start_method="fork"),
-                                   strict=True):
-        out[k, c] = res
-        if n_jobs > 1 and len(asks) > 1:
-            fitter.shooter.n_rollouts += n  # counted in the worker's copy
-    return out
+    """``swapped`` for each (part, round, candidate), in ``n_jobs`` forked processes
+    (``voe.gap.search.counted_map``)."""
+    res = counted_map(fitter, lambda a: swapped(fitter, model, a[0], a[1].results[a[2]]), asks, n_jobs)
+    return {(k, c): r for (k, _, c), r in zip(asks, res, strict=True)}
 
 
 def reselect(fitter: FoldedFitter, model: FitResult | None, keys: list[str], rounds: list[Round],
@@ -113,17 +102,14 @@ def reselect(fitter: FoldedFitter, model: FitResult | None, keys: list[str], rou
     if model is None or len(keys) < 2:
         return model, keys, False
     changed = False
+    parts = _asked(rounds, keys, fixed)  # (part, its round's index); later swaps leave these as they are
     swaps: dict[tuple[int, str], FitResult] = {}
-    for k, key in enumerate(list(keys)):
-        at = next((i for i, r in enumerate(rounds) if r.winner == key), None)
-        rnd = rounds[at] if at is not None else None
-        if rnd is None or rnd.threshold is None or key in fixed:
-            continue
+    for k, at in parts:
+        key, rnd = keys[k], rounds[at]
         alts = _alternatives(rnd, keys)
         if any((k, c) not in swaps for c in alts):  # not yet asked against this model: this part's
-            asks = [(k, rnd, c) for c in alts]       # and every later part's swaps at once
-            asks += [(j, r, c) for j, r in _later(rounds, keys, k, fixed) for c in _alternatives(r, keys)]
-            swaps = _swaps(fitter, model, asks, n_jobs)
+            swaps = _swaps(fitter, model, [(j, rounds[a], c) for j, a in parts if j >= k  # and every later part's
+                                           for c in _alternatives(rounds[a], keys)], n_jobs)  # swaps at once
         best: tuple[float, float, str, FitResult] | None = None
         for c in alts:
             res = swaps[k, c]
@@ -145,11 +131,12 @@ def reselect(fitter: FoldedFitter, model: FitResult | None, keys: list[str], rou
     return model, keys, changed
 
 
-def _later(rounds: list[Round], keys: list[str], k: int, fixed: set[str]) -> list[tuple[int, Round]]:
-    """The parts after ``k`` that will be asked, with their rounds."""
+def _asked(rounds: list[Round], keys: list[str], fixed: set[str]) -> list[tuple[int, int]]:
+    """(place, index of its round) of each part asked again: one its own round named, with a
+    threshold, and not ``fixed``."""
     out = []
-    for j in range(k + 1, len(keys)):
-        rnd = next((r for r in rounds if r.winner == keys[j]), None)
-        if rnd is not None and rnd.threshold is not None and keys[j] not in fixed:
-            out.append((j, rnd))
+    for k, key in enumerate(keys):
+        at = next((i for i, r in enumerate(rounds) if r.winner == key), None)
+        if at is not None and rounds[at].threshold is not None and key not in fixed:
+            out.append((k, at))
     return out

@@ -356,6 +356,22 @@ def accept(fitter: FoldedFitter, res: FitResult, gain: float, before_sse: np.nda
     return ref if window_gain(before_sse, ref.window_sse) >= gain else res
 
 
+def counted_map(fitter: FoldedFitter, fn: Callable, items: list, n_jobs: int = 1) -> list:
+    """``[fn(x) for x in items]`` in ``n_jobs`` forked processes (they inherit ``fitter``; only
+    items and results are pickled), with the simulator rollouts ``fn`` runs in a worker's copy of
+    ``fitter.shooter`` added to this process's count, as if it had run here (the bench reports the
+    count). One place for the candidate fits that the pair step, acceptance and re-selection run
+    side by side; each ``fn`` is deterministic, so the results do not depend on ``n_jobs``."""
+    def one(x):
+        n0 = fitter.shooter.n_rollouts
+        return fn(x), fitter.shooter.n_rollouts - n0
+
+    runs = list(parallel_map(one, items, n_jobs, start_method="fork"))
+    if n_jobs > 1 and len(items) > 1:  # parallel_map ran in workers: their rollouts are not counted here
+        fitter.shooter.n_rollouts += sum(n for _, n in runs)
+    return [r for r, _ in runs]
+
+
 def accept_all(items: list[tuple[FoldedFitter, FitResult, float, np.ndarray]], n_jobs: int = 1) -> list[FitResult]:
     """``accept`` of each (fitter, result, gain, before_sse), in parallel: the data's winner and
     the null's forced candidate are refined at the same time (forked workers inherit the
