@@ -3,11 +3,15 @@ only; the parameters of tests/gap/test_carry_over.py's 1078143 case come from ca
 
     PYTHONPATH=<clone> python cap.py SEED TRUTH NOISE_KIND
 """
-import sys, numpy as np
+import sys
+
+import numpy as np
+
 import voe.gap.carry_over as co
 from voe.gap.bench import make_case
 from voe.gap.finder import GapFinder
 from voe.gap.stages import GapConfig
+
 orig = co.deepened
 def spy(p, model, config, z_thr, null_episodes, ver=None, seed=0):
     out = orig(p, model, config, z_thr, null_episodes, ver, seed)

@@ -8,11 +8,11 @@ import sys
 import time
 
 import numpy as np
+from startfit import refit, sigma_v, z_of
 
 import voe.gap.carry_over as co
-from voe.gap.departure import local_replicates
-from startfit import refit, sigma_v, z_of
 from voe.gap.bench import make_case
+from voe.gap.departure import local_replicates
 from voe.gap.finder import GapFinder
 from voe.gap.stages import GapConfig
 

@@ -8,9 +8,9 @@ make (the truth's z falls to the noise), while a missing effect's stays (the nom
 import sys
 
 import numpy as np
-
 from guards_at_truth import truth_model
 from startfit import refit, sigma_v, z_of
+
 from voe.gap.bench import make_case
 from voe.gap.check import heldout_pairs
 from voe.gap.finder import ALL_EFFECTS

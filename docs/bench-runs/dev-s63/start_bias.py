@@ -11,10 +11,11 @@ import sys
 import numpy as np
 
 import voe.gap.bench as bench
+from voe.gap.finder import ALL_EFFECTS
 from voe.gap.recordings import Episode
 from voe.gap.shooting import Shooter, Window, local_state
 from voe.gap.stages import GapConfig, prepare
-from voe.gap.finder import ALL_EFFECTS
+
 sys.path.insert(0, "../dev-s62")
 from guards_at_truth import truth_model  # noqa: E402
 

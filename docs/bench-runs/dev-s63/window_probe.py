@@ -6,13 +6,12 @@ model (development only): data, nominal and truth poses, residuals in sigmas, an
 import sys
 
 import numpy as np
-
 from guards_at_truth import truth_model
+
 from voe.gap.bench import make_case
 from voe.gap.check import heldout_pairs
 from voe.gap.context import frame_labels
 from voe.gap.finder import ALL_EFFECTS
-from voe.gap.locate import window_z
 from voe.gap.stages import GapConfig, prepare
 
 seed, truth, kind = int(sys.argv[1]), sys.argv[2], sys.argv[3]
