@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from voe.gap import locate
 from voe.gap.effects.base import Effect
 from voe.gap.rollout import run_many
 from voe.gap.shooting import ORDER, Shooter, Window
@@ -41,10 +42,10 @@ def start_sigma(shooter: Shooter, win: Window, sigma: np.ndarray) -> np.ndarray:
 
 
 def window_z(shooter: Shooter, win: Window, pred: np.ndarray, sigma: np.ndarray) -> float:
-    """The window's largest RMS standardised residual over bodies and variables, first sample left
-    out: ``voe.gap.locate.window_z``'s statistic for predicted poses ``pred`` (n, B, 3)."""
-    r = (pred - shooter.episodes[win.ep].pose[win.k0:win.k1 + 1]) * shooter.scale[None] / shooter.sigma_pred(win, sigma)
-    return float(np.sqrt(np.mean(r[1:] ** 2, axis=0)).max())
+    """The window's largest z over bodies and variables (``voe.gap.locate.window_z``'s statistic, as
+    ``deepened`` reads it) for predicted poses ``pred`` (n, B, 3)."""
+    res = (pred - shooter.episodes[win.ep].pose[win.k0:win.k1 + 1]) * shooter.scale[None]  # (n, B, 3)
+    return float(locate.window_z(shooter, [win], sigma, [res]).max())
 
 
 def refitted(shooter: Shooter, win: Window, effect: Effect | None, params: np.ndarray | None,

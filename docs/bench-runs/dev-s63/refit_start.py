@@ -8,21 +8,11 @@ make (the truth's z falls to the noise), while a missing effect's stays (the nom
 import sys
 
 import numpy as np
-from guards_at_truth import truth_model
-from startfit import refit, sigma_v, z_of
-
-from voe.gap.bench import make_case
-from voe.gap.check import heldout_pairs
-from voe.gap.finder import ALL_EFFECTS
-from voe.gap.stages import GapConfig, prepare
+from startfit import refit, sigma_v, truth_pairs, z_of
 
 seed, truth, kind = int(sys.argv[1]), sys.argv[2], sys.argv[3]
 only = {int(a) for a in sys.argv[4:]}
-case = make_case(np.random.default_rng(seed), truth, 1e-3, 12, 3.0, noise_kind=kind)
-config = GapConfig()
-p = prepare(case.scene, case.episodes, ALL_EFFECTS, config)
-model, _ = truth_model(case, max(1, len(p.split.folds)) if p.split.cross_validated else 1)
-pairs = heldout_pairs(p, model, config)[0]
+case, p, model, pairs = truth_pairs(seed, truth, kind)
 sh = p.shooter
 dt = float(np.median(np.diff(sh.episodes[0].t)))
 sv = sigma_v(sh.half, dt, p.sigma)

@@ -61,3 +61,20 @@ def refit(sh: Shooter, w, effect, params, sigma, sv, iters=10):
             break
     return pred, dv.reshape(vel0.shape)
 
+
+
+def truth_pairs(seed: int, truth: str, kind: str):
+    """A bench case prepared as the finder does, the truth as a fitted model (dev-s62's ``truth_model``) and the
+    test windows with the truth's parameters: (case, problem, model, pairs)."""
+    from guards_at_truth import truth_model
+
+    from voe.gap.bench import make_case
+    from voe.gap.check import heldout_pairs
+    from voe.gap.finder import ALL_EFFECTS
+    from voe.gap.stages import GapConfig, prepare
+
+    case = make_case(np.random.default_rng(seed), truth, 1e-3, 12, 3.0, noise_kind=kind)
+    config = GapConfig()
+    p = prepare(case.scene, case.episodes, ALL_EFFECTS, config)
+    model, _ = truth_model(case, max(1, len(p.split.folds)) if p.split.cross_validated else 1)
+    return case, p, model, heldout_pairs(p, model, config)[0]

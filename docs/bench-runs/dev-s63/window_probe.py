@@ -6,21 +6,13 @@ model (development only): data, nominal and truth poses, residuals in sigmas, an
 import sys
 
 import numpy as np
-from guards_at_truth import truth_model
+from startfit import truth_pairs
 
-from voe.gap.bench import make_case
-from voe.gap.check import heldout_pairs
 from voe.gap.context import frame_labels
-from voe.gap.finder import ALL_EFFECTS
-from voe.gap.stages import GapConfig, prepare
 
 seed, truth, kind = int(sys.argv[1]), sys.argv[2], sys.argv[3]
 only = {int(a) for a in sys.argv[4:]}
-case = make_case(np.random.default_rng(seed), truth, 1e-3, 12, 3.0, noise_kind=kind)
-config = GapConfig()
-p = prepare(case.scene, case.episodes, ALL_EFFECTS, config)
-model, _ = truth_model(case, max(1, len(p.split.folds)) if p.split.cross_validated else 1)
-pairs = heldout_pairs(p, model, config)[0]
+case, p, model, pairs = truth_pairs(seed, truth, kind)
 sh = p.shooter
 print("truth", case.true, "bodies", case.scene.names, "split test", p.split.test, "substep", p.substep, "half", p.half)
 for i, (w, params) in enumerate(pairs):
