@@ -56,6 +56,7 @@ class GapConfig:
     deepen_factor: float = 2.0  # a test window's rise must pass this many times max(replicate z, threshold)
     deepen_replicates: int = 10  # the model's own window-local replicates of such a window (0: none; voe.gap.carry_over.deepened)
     deepen_growth: float = 1.2  # ... and the window's z must grow by this factor (1: any growth; voe.gap.carry_over.deepened)
+    deepen_refit: bool = True  # ... and must still depart with each start velocity refitted (voe.gap.start_refit)
     fit: FitConfig = FitConfig()
 
 
