@@ -209,7 +209,7 @@ def start_noise(p: Problem, w: Window, model: FitResult, params: np.ndarray, con
     for stay: gust 1078143's ``rolling_resistance`` goes from 15.2 to 9.9, refitted, against the
     nominal's 5.3 and a threshold of 5.4, and floor patch 6219142's ``friction_region`` from 37.0 to
     34.0 against 6.5 and 11.4 (docs/gap-findings.md, session 63; ``docs/bench-runs/dev-s63/tails_*.txt``).
-    Only a window that the other bars would drop is refitted: two refits of about 100 rollouts each at most.
+    Only a window that the other bars would drop is refitted: two refits of at most about 130 rollouts each.
     """
     za = refitted_z(p.shooter, w, model.effect, params, p.sigma)
     return za <= max(z_thr, config.deepen_growth * refitted_z(p.shooter, w, None, None, p.sigma))
