@@ -24,6 +24,7 @@ from voe.gap.search import Round
 from voe.gap.shooting import Shooter
 from voe.gap.synth import ar1_noise, simulate_episode
 from voe.gap.truths import OUTSIDE, Gust, Hidden, compound_truths, hide, kind, scene_kind, single_truths
+from voe.gap.verify import EXPRESSED_Z
 from voe.parallel import parallel_map
 from voe.sim.scenefile import BodySpec, SceneSpec, StaticSpec
 
@@ -193,7 +194,6 @@ def _null_strength(found: dict) -> bool:
                    for v, (lo, hi) in zip(found["nominal"].values(), found["interval95"].values(), strict=True))
 
 
-EXPRESSED_Z = 3.0  # a window expresses the truth when the truth moves its prediction by this many noise sigmas (RMS)
 
 
 def expression(case: Case, finder: GapFinder, noise: float) -> tuple[int, int] | None:

@@ -22,6 +22,7 @@ if TYPE_CHECKING:  # an annotation only: no import of the search machinery at ru
 
 
 NOISE_SHARE = 0.1  # what is left looks like noise when at most this share of windows departs
+EXPRESSED_Z = 3.0  # a window expresses a law when the law moves its prediction by this many noise sigmas (RMS)
 
 
 @dataclass(frozen=True)
@@ -41,6 +42,8 @@ class Verification:
     looks_like_noise: bool
     z_before: tuple[float, ...] = ()  # (W,) each window's z without the model (``voe.gap.carry_over.deepened``)
     z_after: tuple[float, ...] = ()  # (W,) and with it
+    # (W,) RMS over each window of how far the model moves the prediction (pose-equivalent metres); () if not taken
+    moved: tuple[float, ...] = ()
 
     def nominal(self) -> Verification:
         """The nominal model's figures on the same windows: every *after* figure is its *before*.
@@ -52,7 +55,8 @@ class Verification:
         return Verification(self.rmse_before, self.rmse_before, self.position_rmse_before, self.position_rmse_before,
                             self.window_median_before, self.window_median_before, self.median_z_before,
                             self.median_z_before, self.flagged_before, self.flagged_before,
-                            bool(self.flagged_before <= NOISE_SHARE), self.z_before, self.z_before)
+                            bool(self.flagged_before <= NOISE_SHARE), self.z_before, self.z_before,
+                            tuple(0.0 for _ in self.moved))
 
 
 def verify(shooter: Shooter, pairs: list[tuple[Window, np.ndarray | None]], effect: Effect | None,
@@ -67,10 +71,11 @@ def verify(shooter: Shooter, pairs: list[tuple[Window, np.ndarray | None]], effe
     zb = window_z(shooter, windows, sigma, before).max(axis=(1, 2))  # (W,)
     za = window_z(shooter, windows, sigma, after).max(axis=(1, 2))  # (W,)
     flagged_after = float(np.mean(za > z_thr))
+    moved = [float(np.sqrt(np.mean((a - b) ** 2))) for a, b in zip(after, before, strict=True)]  # (W,)
     return Verification(rmse(before), rmse(after), position_rmse(before), position_rmse(after),
                         window_score(before), window_score(after),
                         float(np.median(zb)), float(np.median(za)), float(np.mean(zb > z_thr)), flagged_after,
-                        bool(flagged_after <= NOISE_SHARE), tuple(map(float, zb)), tuple(map(float, za)))
+                        bool(flagged_after <= NOISE_SHARE), tuple(map(float, zb)), tuple(map(float, za)), tuple(moved))
 
 
 def _residuals_at(shooter: Shooter, pairs: list[tuple[Window, np.ndarray | None]], effect: Effect) -> list[np.ndarray]:
