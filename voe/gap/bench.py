@@ -194,8 +194,6 @@ def _null_strength(found: dict) -> bool:
                    for v, (lo, hi) in zip(found["nominal"].values(), found["interval95"].values(), strict=True))
 
 
-
-
 def expression(case: Case, finder: GapFinder, noise: float) -> tuple[int, int] | None:
     """(windows expressing the truth, windows) for a single library truth (the selection windows)
     or a floor patch (its scene against the nominal one, on the location's 1-s windows of every
