@@ -101,13 +101,22 @@ def short_on_test(c: Checked, p: Problem, config: GapConfig, z_thr: float) -> Ch
     name the bar dropped (``docs/bench-runs/dev-s65/``). A name that does move a test window is
     judged as before: 3829037's ``rolling_resistance`` (two windows moved, the test RMSE 2.0 ->
     7.5 mm) and floor patch 2276142's ``friction_region`` (-42.9 %) stay dropped.
+
+    Nor is the exemption given to a name that makes the test RMSE worse by more than the bar's own
+    margin (``second_look_test_gain``): test episodes that cannot confirm a weak law can still
+    refute it, many windows each a little worse. Why (session 66): the untouched run of seed 5905
+    measured the exemption, and its one effect there was a false discovery: clean case 5905013's
+    second look named ``constant_acceleration``, which moved no test window past 3 sigmas and made
+    the test RMSE 35 % worse (1.38 -> 1.86 mm); before the exemption the bar dropped it. The right
+    names the exemption kept on seeds 2276 and 3829 changed the test RMSE by -1.1 to +2.3 %.
     """
     v = c.verification
     if c.model is None or not np.isfinite(v.rmse_before) or v.rmse_before <= 0:
         return c
-    if v.moved and max(v.moved) <= EXPRESSED_Z * float(np.median(p.sigma[:, :2])):
-        return c  # the test episodes do not express the name: they cannot judge it (see above)
     gain = 1.0 - v.rmse_after / v.rmse_before
+    if v.moved and max(v.moved) <= EXPRESSED_Z * float(np.median(p.sigma[:, :2])) \
+            and gain > -config.second_look_test_gain:
+        return c  # the test episodes do not express the name and do not refute it: they cannot judge it (see above)
     if gain >= config.second_look_test_gain:
         return c
     why = (f"the second look's name lowers the test RMSE by only {100 * gain:.1f} % ({v.rmse_before:.4g} -> "
