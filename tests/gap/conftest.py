@@ -69,3 +69,12 @@ def flight_files(tmp_path: Path) -> tuple[Path, Path]:
     rp = tmp_path / "rec.csv"
     to_table(scene, eps).to_csv(rp, index=False)
     return sp, rp
+
+
+@pytest.fixture
+def no_stand_ins(monkeypatch):
+    """Every later round's member counts as moving its windows (``voe.gap.stand_in``): for the
+    search tests whose made-up fitters have selection errors but no predictions to move."""
+    from voe.gap import search
+
+    monkeypatch.setattr(search, "own_moved", lambda fitter, res, cand: float("inf"))

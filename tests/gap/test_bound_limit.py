@@ -5,9 +5,12 @@ apart (``voe.gap.search.bound_limit``)."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from voe.gap.effects import EFFECTS
 from voe.gap.effects.base import EffectSum, FitContext
+
+pytestmark = pytest.mark.usefixtures("no_stand_ins")  # made-up fits: nothing to move (``voe.gap.stand_in``)
 
 CTX = FitContext(None, np.array([0.0, 0.0]), np.array([2.0, 2.0]), 1.0, 1.0)  # spring anchors: x, y in [-3, 5] m
 

@@ -6,12 +6,15 @@ every null round fitted gives."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from voe.gap.effects import EFFECTS
 from voe.gap.effects.base import EffectSum
 from voe.gap.fit import FitResult
 from voe.gap.greedy import greedy
 from voe.gap.null import NullSearch
+
+pytestmark = pytest.mark.usefixtures("no_stand_ins")  # made-up fits: nothing to move (``voe.gap.stand_in``)
 
 W = 20
 NAMES = ("quadratic_drag", "angular_damping", "linear_drag", "constant_acceleration")

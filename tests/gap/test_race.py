@@ -7,12 +7,15 @@ from __future__ import annotations
 from dataclasses import replace
 
 import numpy as np
+import pytest
 
 from voe.gap.effects import EFFECTS
 from voe.gap.effects.base import EffectSum, FitContext
 from voe.gap.fit import FitResult
 from voe.gap.race import contenders, race_group
 from voe.gap.search import choose
+
+pytestmark = pytest.mark.usefixtures("no_stand_ins")  # made-up fits: nothing to move (``voe.gap.stand_in``)
 
 KEYS = ("spring_anchor", "constant_acceleration", "linear_drag", "quadratic_drag")
 

@@ -4,8 +4,11 @@ round's winner gives way to a candidate of its own round that now predicts far b
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from voe.gap.effects import EFFECTS
+
+pytestmark = pytest.mark.usefixtures("no_stand_ins")  # made-up fits: nothing to move (``voe.gap.stand_in``)
 
 
 class _Shooter:

@@ -184,7 +184,8 @@ def test_null_runs_the_same_rounds_forcing_in_its_best_candidate():
     t1 = null.threshold(1)  # computes rounds 0 and 1
     r = null.result()
     assert len(r) == 2 and r[0].forced in cands and r[1].forced != r[0].forced
-    assert set(r[1].gains) == set(cands) - {r[0].forced}  # round 2 fits what is left on top of round 1's
+    # round 2 fits what is left on top of round 1's (a stand-in, fitted at nothing, is left out: ``voe.gap.stand_in``)
+    assert set(r[1].gains) | set(r[1].stand_ins) == set(cands) - {r[0].forced}
     assert t1 >= 0.05 and r[0].threshold >= max(g for g in r[0].gains.values())
     assert null.threshold(0) == r[0].threshold and len(null.result()) == 2  # no recomputation
 

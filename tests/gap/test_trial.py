@@ -4,8 +4,11 @@ the next round confirms it (``voe.gap.greedy.Trial``)."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from voe.gap.effects import EFFECTS
+
+pytestmark = pytest.mark.usefixtures("no_stand_ins")  # made-up fits: nothing to move (``voe.gap.stand_in``)
 
 
 class _Shooter:

@@ -15,6 +15,8 @@ from voe.gap.rollout import run_many
 from voe.gap.shooting import local_state
 from voe.gap.stages import context_for
 
+pytestmark = pytest.mark.usefixtures("no_stand_ins")  # made-up fits: nothing to move (``voe.gap.stand_in``)
+
 REGIONS = [n for n in EFFECTS.ids() if EFFECTS.get(n)().global_name]  # every registered region effect
 
 

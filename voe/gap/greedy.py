@@ -118,7 +118,7 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
         later = due and r > 0  # the null's round waits for the data's: it may not be needed (below)
         tasks = [RoundTask(fitter, pool, current, before_sse)] + ([paired.task()] if due and not later else [])
         outs = fit_rounds(tasks, progress, n_jobs)
-        results, gains = outs[0]
+        results, gains, stand = outs[0]  # stand-ins left out (``voe.gap.stand_in``)
         lower = {k: gain_lower_bound(before_sse, x.window_sse, q=q) for k, x in results.items()}
         pairs_open = trial is None and lower_q and len(keys) + 2 <= max_effects and len(pool) > 1
         found = None  # the data's pair, if asked before the null's round (``data_pair``)
@@ -160,7 +160,7 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
                 continue
         if not group:
             rounds.append(Round(before, results, gains, lower, thr, basis=_SKIPPED.format(
-                100 * paired.min_gain, 100 * max(gains.values(), default=0.0)) if skipped else ""))
+                100 * paired.min_gain, 100 * max(gains.values(), default=0.0)) if skipped else "", stand_ins=stand))
             if trial is not None:  # nothing confirmed the trial: undo it, then try its round's pairs
                 current, keys, by_pair, alone = _unconfirmed(fitter, trial, rounds, current, keys, by_pair,
                                                              max_effects, q, n_jobs)
@@ -191,7 +191,7 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
             winner, tie = lim, None
         if trial is not None:
             if not trial.confirmed(first_fits[winner].window_sse, q):  # a test: on the first fit, as before the race
-                rounds.append(Round(before, results, gains, lower, thr, basis=trial.refused(winner)))
+                rounds.append(Round(before, results, gains, lower, thr, basis=trial.refused(winner), stand_ins=stand))
                 current, keys, by_pair, alone = _unconfirmed(fitter, trial, rounds, current, keys, by_pair,
                                                              max_effects, q, n_jobs, winner)
                 break
@@ -199,7 +199,7 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
             trial = None
         if provisional:
             basis = f"{basis}; provisional: its gain's {100 * q:.0f} % bootstrap quantile is not positive"
-        rounds.append(Round(before, results, gains, lower, thr, winner, kept, basis, tie))
+        rounds.append(Round(before, results, gains, lower, thr, winner, kept, basis, tie, stand))
         if provisional:
             snap = NullSnapshot(paired.fitter, paired.current, paired.before_sse, paired.alpha, paired.seed, outs[1][0]) \
                 if paired is not None and len(outs) > 1 else None

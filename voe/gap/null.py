@@ -12,7 +12,7 @@ what clean data shows).
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -31,10 +31,12 @@ class NullRound:
     gains: dict[str, float]
     forced: str | None
     best_quantiles: dict[str, float | None]
+    stand_ins: dict[str, float] = field(default_factory=dict)  # members left out (``voe.gap.stand_in``): gains
 
     def to_dict(self) -> dict:
         return {"threshold_gain": self.threshold, "forced": self.forced, "best_gain_quantiles": self.best_quantiles,
-                "gains": {k: round(v, 4) for k, v in self.gains.items() if np.isfinite(v)}}
+                "gains": {k: round(v, 4) for k, v in self.gains.items() if np.isfinite(v)},
+                "stand_ins": {k: round(v, 4) for k, v in self.stand_ins.items() if np.isfinite(v)}}
 
 
 class NullSearch:
@@ -77,14 +79,16 @@ class NullSearch:
         self.current, self._forced = refined, None
         self.before_sse = refined.window_sse
 
-    def record(self, results: dict[str, FitResult], gains: dict[str, float]) -> None:
-        """Close a round from its fits: threshold, quantiles, forced candidate."""
+    def record(self, results: dict[str, FitResult], gains: dict[str, float],
+               stand_ins: dict[str, float] | None = None) -> None:
+        """Close a round from its fits (``fit_rounds``'s, stand-ins left out): threshold, quantiles,
+        forced candidate."""
         q, best = null_threshold(self.before_sse, results, self.alpha, self.seed)
         finite = {k: g for k, g in gains.items() if np.isfinite(g)}
         thr = float(max(self.min_gain, q, max(finite.values(), default=0.0)))
         forced = max(finite, key=lambda k: finite[k]) if finite else None
         quant = {str(p): (float(np.quantile(best, p)) if best.size else None) for p in (0.5, 0.95, 0.99)}
-        self.rounds.append(NullRound(thr, gains, forced, quant))
+        self.rounds.append(NullRound(thr, gains, forced, quant, dict(stand_ins or {})))
         if forced is not None:
             self._forced = (results[forced], gains[forced])
             self.pool.pop(forced)

@@ -22,7 +22,7 @@ once.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -30,6 +30,7 @@ from voe.gap.context import frame_labels
 from voe.gap.effects.base import Effect
 from voe.gap.fit import FitResult
 from voe.gap.folds import FoldedFitter
+from voe.gap.stand_in import is_stand_in, own_moved
 from voe.parallel import parallel_map
 
 GROUP_TOL = 0.10  # selection error ratio within 10 % of the winner's counts as indistinguishable
@@ -118,11 +119,13 @@ class Round:
     group: tuple[str, ...] = ()
     basis: str = ""
     tie: TieBreak | None = None
+    stand_ins: dict[str, float] = field(default_factory=dict)  # members left out (``voe.gap.stand_in``): gains
 
     def to_dict(self) -> dict:
         return {"before": self.before, "threshold_gain": self.threshold, "winner": self.winner,
                 "group": list(self.group), "basis": self.basis,
-                "gains": {k: (round(g, 4) if np.isfinite(g) else None) for k, g in self.gains.items()}}
+                "gains": {k: (round(g, 4) if np.isfinite(g) else None) for k, g in self.gains.items()},
+                "stand_ins": {k: (round(g, 4) if np.isfinite(g) else None) for k, g in self.stand_ins.items()}}
 
 
 @dataclass(frozen=True)
@@ -138,8 +141,12 @@ class RoundTask:
 
 
 def fit_rounds(tasks: list[RoundTask], progress: Callable[[str], None] | None = None,
-               n_jobs: int = 1) -> list[tuple[dict[str, FitResult], dict[str, float]]]:
-    """(results, gains) of every task, all candidate fits of all tasks in one parallel loop.
+               n_jobs: int = 1) -> list[tuple[dict[str, FitResult], dict[str, float], dict[str, float]]]:
+    """(results, gains, stand_ins) of every task, all candidate fits of all tasks in one parallel loop.
+
+    A task with a current model leaves out of ``results`` and ``gains`` each member whose own
+    part moves no selection window's prediction (``voe.gap.stand_in``); ``stand_ins`` holds
+    their gains, for the record.
 
     Why together: the data's round and the null's same round are independent and equally
     expensive; fitting their candidates in one loop keeps ``n_jobs`` processes busy where two
@@ -154,9 +161,12 @@ def fit_rounds(tasks: list[RoundTask], progress: Callable[[str], None] | None = 
     start = {i: sh.n_rollouts for i, sh in shooters.items()}
     spent = dict.fromkeys(shooters, 0)
     found: dict[tuple[int, str], FitResult] = {}
-    for (t, key), (res, n_roll) in zip(items, parallel_map(lambda it: _fit_one(it, tasks), items, n_jobs,
-                                                           start_method="fork"), strict=True):
+    stand: set[tuple[int, str]] = set()
+    for (t, key), (res, n_roll, moved) in zip(items, parallel_map(lambda it: _fit_one(it, tasks), items, n_jobs,
+                                                                  start_method="fork"), strict=True):
         found[(t, key)] = res
+        if is_stand_in(moved):
+            stand.add((t, key))
         spent[id(tasks[t].fitter.shooter)] += n_roll
         note = tasks[t].note or progress
         if note:
@@ -165,8 +175,10 @@ def fit_rounds(tasks: list[RoundTask], progress: Callable[[str], None] | None = 
         sh.n_rollouts = start[i] + spent[i]
     out = []
     for t, task in enumerate(tasks):
-        results = {k: found[(t, k)] for k in task.pool}  # pool order: ties go to the first, as before
-        out.append((results, {k: window_gain(task.before_sse, r.window_sse) for k, r in results.items()}))
+        gains = {k: window_gain(task.before_sse, found[(t, k)].window_sse) for k in task.pool}  # pool order: ties
+        results = {k: found[(t, k)] for k in task.pool if (t, k) not in stand}  # go to the first, as before
+        out.append((results, {k: g for k, g in gains.items() if k in results},
+                    {k: g for k, g in gains.items() if k not in results}))
     return out  # a gain is -inf for a rollout that blew up
 
 
@@ -174,16 +186,19 @@ def candidate_gains(fitter: FoldedFitter, candidates: dict[str, Effect], current
                     before_sse: np.ndarray, progress: Callable[[str], None] | None = None,
                     n_jobs: int = 1) -> tuple[dict[str, FitResult], dict[str, float]]:
     """Fit ``current + c`` for every candidate; gain = ``window_gain`` against ``before_sse`` (W,)."""
-    return fit_rounds([RoundTask(fitter, candidates, current, before_sse)], progress, n_jobs)[0]
+    return fit_rounds([RoundTask(fitter, candidates, current, before_sse)], progress, n_jobs)[0][:2]
 
 
-def _fit_one(item: tuple[int, str], tasks: list[RoundTask]) -> tuple[FitResult, int]:
-    """Fit candidate ``key`` of task ``t``; returns the result and the rollouts it cost."""
+def _fit_one(item: tuple[int, str], tasks: list[RoundTask]) -> tuple[FitResult, int, float]:
+    """Fit candidate ``key`` of task ``t``; returns the result, the rollouts it cost and, on top of
+    a current model, how far its own part moves a selection window (``voe.gap.stand_in.own_moved``;
+    ``inf`` in the first round)."""
     t, key = item
     task = tasks[t]
     n0 = task.fitter.shooter.n_rollouts
     res = task.fitter.fit_candidate(task.current, task.pool[key])
-    return res, task.fitter.shooter.n_rollouts - n0
+    moved = float("inf") if task.current is None else own_moved(task.fitter, res, task.pool[key])
+    return res, task.fitter.shooter.n_rollouts - n0, moved
 
 
 def context_match(effect_contexts: tuple[str, ...], located: set[str]) -> bool:

@@ -59,6 +59,12 @@ class Verification:
                             tuple(0.0 for _ in self.moved))
 
 
+def rms_moved(after: list[np.ndarray], before: list[np.ndarray]) -> list[float]:
+    """(W,) RMS of each window's residual change (the prediction's change: the recordings cancel),
+    in the residuals' units, as the bench measures a law's expression (``EXPRESSED_Z``)."""
+    return [float(np.sqrt(np.mean((a - b) ** 2))) for a, b in zip(after, before, strict=True)]
+
+
 def verify(shooter: Shooter, pairs: list[tuple[Window, np.ndarray | None]], effect: Effect | None,
            sigma: np.ndarray, z_thr: float) -> Verification:
     """Re-simulate each window with and without ``effect`` (at that window's parameters)."""
@@ -71,7 +77,7 @@ def verify(shooter: Shooter, pairs: list[tuple[Window, np.ndarray | None]], effe
     zb = window_z(shooter, windows, sigma, before).max(axis=(1, 2))  # (W,)
     za = window_z(shooter, windows, sigma, after).max(axis=(1, 2))  # (W,)
     flagged_after = float(np.mean(za > z_thr))
-    moved = [float(np.sqrt(np.mean((a - b) ** 2))) for a, b in zip(after, before, strict=True)]  # (W,)
+    moved = rms_moved(after, before)  # (W,)
     return Verification(rmse(before), rmse(after), position_rmse(before), position_rmse(after),
                         window_score(before), window_score(after),
                         float(np.median(zb)), float(np.median(za)), float(np.mean(zb > z_thr)), flagged_after,
