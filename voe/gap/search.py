@@ -28,8 +28,10 @@ import numpy as np
 
 from voe.gap.context import frame_labels
 from voe.gap.effects.base import Effect
+from voe.gap.effects.mass import Mass
 from voe.gap.fit import FitResult
 from voe.gap.folds import FoldedFitter
+from voe.gap.mass_ratio import one_too_many
 from voe.gap.stand_in import is_stand_in, own_moved
 from voe.parallel import parallel_map
 
@@ -146,7 +148,8 @@ def fit_rounds(tasks: list[RoundTask], progress: Callable[[str], None] | None = 
 
     A task with a current model leaves out of ``results`` and ``gains`` each member whose own
     part moves no selection window's prediction (``voe.gap.stand_in``); ``stand_ins`` holds
-    their gains, for the record.
+    their gains, for the record. A candidate that would put a mass on every body with nothing
+    that sees absolute masses is not fitted at all (``voe.gap.mass_ratio``).
 
     Why together: the data's round and the null's same round are independent and equally
     expensive; fitting their candidates in one loop keeps ``n_jobs`` processes busy where two
@@ -155,7 +158,7 @@ def fit_rounds(tasks: list[RoundTask], progress: Callable[[str], None] | None = 
     inherit the fitters (pymunk scenes, recordings) instead of pickling them; each fit is
     deterministic, so results and their order do not depend on ``n_jobs``.
     """
-    items = [(t, k) for t, task in enumerate(tasks) for k in task.pool]
+    items = [(t, k) for t, task in enumerate(tasks) for k in task.pool if not _one_too_many(task, k)]
     items.sort(key=lambda it: -tasks[it[0]].pool[it[1]].n_params)  # stable: otherwise in pool order
     shooters = {id(t.fitter.shooter): t.fitter.shooter for t in tasks}
     start = {i: sh.n_rollouts for i, sh in shooters.items()}
@@ -175,8 +178,9 @@ def fit_rounds(tasks: list[RoundTask], progress: Callable[[str], None] | None = 
         sh.n_rollouts = start[i] + spent[i]
     out = []
     for t, task in enumerate(tasks):
-        gains = {k: window_gain(task.before_sse, found[(t, k)].window_sse) for k in task.pool}  # pool order: ties
-        results = {k: found[(t, k)] for k in task.pool if (t, k) not in stand}  # go to the first, as before
+        fitted = [k for k in task.pool if (t, k) in found]  # pool order: ties go to the first, as before
+        gains = {k: window_gain(task.before_sse, found[(t, k)].window_sse) for k in fitted}
+        results = {k: found[(t, k)] for k in fitted if (t, k) not in stand}
         out.append((results, {k: g for k, g in gains.items() if k in results},
                     {k: g for k, g in gains.items() if k not in results}))
     return out  # a gain is -inf for a rollout that blew up
@@ -187,6 +191,13 @@ def candidate_gains(fitter: FoldedFitter, candidates: dict[str, Effect], current
                     n_jobs: int = 1) -> tuple[dict[str, FitResult], dict[str, float]]:
     """Fit ``current + c`` for every candidate; gain = ``window_gain`` against ``before_sse`` (W,)."""
     return fit_rounds([RoundTask(fitter, candidates, current, before_sse)], progress, n_jobs)[0][:2]
+
+
+def _one_too_many(task: RoundTask, key: str) -> bool:
+    """Whether candidate ``key`` on top of the task's current model would put a mass on every body
+    with nothing that sees absolute masses (``voe.gap.mass_ratio``): not offered."""
+    parts = (task.current.effect.parts if task.current is not None else ()) + task.pool[key].parts
+    return any(isinstance(e, Mass) for e in parts) and one_too_many(task.fitter.shooter.scene, parts)
 
 
 def _fit_one(item: tuple[int, str], tasks: list[RoundTask]) -> tuple[FitResult, int, float]:

@@ -71,6 +71,10 @@ class Effect:
     global_name: ClassVar[str | None] = None  # a region effect's unlimited version (voe.gap.search.covers_contacts)
     limit_name: ClassVar[str | None] = None  # the simpler effect it nests as ``limit_params`` run off (``at_limit``)
     limit_params: ClassVar[tuple[int, ...]] = ()  # indices of the parameters whose bound stands for that limit
+    # its forces and torques scale with the bodies' masses and moments (accelerations, contact materials), so
+    # scaling every mass by one factor leaves the motion unchanged; False where not (a torque -b omega) or not
+    # shown (voe.gap.mass_ratio; tests/gap/test_mass_ratio.py checks every True by simulation)
+    mass_proportional: ClassVar[bool] = False
 
     def __init__(self, bodies: tuple[str, ...] | None = None) -> None:
         self.bodies = tuple(bodies) if bodies else None

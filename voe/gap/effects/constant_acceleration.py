@@ -14,6 +14,7 @@ from voe.sim.scenefile import SceneSpec, SimState
 
 class ConstantAcceleration(Effect):
     name = "constant_acceleration"
+    mass_proportional = True
     param_names = ("ax", "ay")
     units = ("m/s^2", "m/s^2")
     contexts = ("flight", "sliding", "rolling")

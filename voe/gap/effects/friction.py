@@ -20,6 +20,7 @@ from voe.sim.scenefile import Materials, SceneSpec
 
 class Friction(Effect):
     name = "friction"
+    mass_proportional = True
     saturates = True  # the body sticks / the ball stops (``Effect.saturates``)
     sparse = True  # fitted on the windows where it acts (``Fitter.focused``)
     param_names = ("friction",)

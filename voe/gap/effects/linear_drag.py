@@ -14,6 +14,7 @@ from voe.sim.scenefile import SceneSpec, SimState
 
 class LinearDrag(Effect):
     name = "linear_drag"
+    mass_proportional = True
     param_names = ("c",)
     units = ("1/s",)
     contexts = ("flight",)

@@ -18,6 +18,7 @@ from voe.sim.scenefile import Materials, SceneSpec
 
 class Mass(Effect):
     name = "mass"
+    mass_proportional = True
     param_names = ("scale",)
     units = ("x nominal",)
     contexts = ("impact",)

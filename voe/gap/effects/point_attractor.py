@@ -18,6 +18,7 @@ _SOFT = 0.1  # m
 
 class PointAttractor(Effect):
     name = "point_attractor"
+    mass_proportional = True
     param_names = ("k", "px", "py")
     units = ("m^3/s^2", "m", "m")
     contexts = ("region",)

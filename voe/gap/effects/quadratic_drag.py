@@ -15,6 +15,7 @@ from voe.sim.scenefile import SceneSpec, SimState
 
 class QuadraticDrag(Effect):
     name = "quadratic_drag"
+    mass_proportional = True
     param_names = ("c",)
     units = ("1/m",)
     contexts = ("flight",)

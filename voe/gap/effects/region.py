@@ -55,6 +55,7 @@ def inside_at(x0: float, x1: float) -> Callable[[np.ndarray], np.ndarray]:
 
 class _Region(Effect):
     acts = "region"
+    mass_proportional = True  # as the material effects it limits to an interval
     contexts = ("region", "sliding", "rolling")
     flight_regression = False
     STRENGTHS: tuple[float, ...] = ()

@@ -14,6 +14,7 @@ from voe.sim.scenefile import Materials, SceneSpec
 
 class Restitution(Effect):
     name = "restitution"
+    mass_proportional = True
     param_names = ("elasticity",)
     units = ("",)
     contexts = ("impact",)

@@ -19,6 +19,7 @@ _V0 = 0.01  # m/s, smoothing speed of the direction
 
 class RollingResistance(Effect):
     name = "rolling_resistance"
+    mass_proportional = True
     saturates = True  # the body sticks / the ball stops (``Effect.saturates``)
     param_names = ("c_rr",)
     units = ("",)

@@ -16,6 +16,7 @@ from voe.sim.scenefile import SceneSpec, SimState
 
 class SpringAnchor(Effect):
     name = "spring_anchor"
+    mass_proportional = True
     param_names = ("k", "px", "py")
     units = ("1/s^2", "m", "m")
     contexts = ("region",)
