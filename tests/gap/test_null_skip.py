@@ -97,6 +97,10 @@ def test_the_null_round_is_fitted_when_a_data_candidate_beats_the_floor():
     assert null_fitter.refined == 1  # round 1's forced candidate, refined once its next round is fitted
     assert res.rounds[1].threshold == null.result()[1].threshold and res.rounds[1].winner == "linear_drag"
     assert res.keys == ("quadratic_drag", "linear_drag")
+    # every model accepted on the way is kept for the check (``voe.gap.check._earlier``)
+    assert [k for k, _ in res.accepted] == [("quadratic_drag",), ("quadratic_drag", "linear_drag")]
+    assert res.earlier(("quadratic_drag",)).window_sse[0] == 0.1 and res.earlier(res.keys) is res.accepted[-1][1]
+    assert res.earlier(("linear_drag",)) is None
 
 
 def test_the_null_round_is_fitted_when_only_the_data_pair_beats_the_floor():

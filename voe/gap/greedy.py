@@ -80,6 +80,13 @@ class SearchResult:
     # the model is one first-round trial kept with nothing to confirm or refuse it (``Trial.last``):
     # the check establishes it on the fitting episodes (``voe.gap.check.short_of_nominal``)
     trial_alone: bool = False
+    # every model the search accepted on the way, with its keys in order (a later one with the same keys wins):
+    # the check reports the search's own model when its drops leave those parts (``earlier``)
+    accepted: tuple[tuple[tuple[str, ...], FitResult], ...] = ()
+
+    def earlier(self, keys: tuple[str, ...]) -> FitResult | None:
+        """The last model the search accepted with exactly the parts ``keys``, in that order; None if none."""
+        return dict(self.accepted).get(tuple(keys))
 
     @property
     def groups(self) -> list[list[str]]:
@@ -110,6 +117,7 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
     trial: Trial | None = None  # a provisional winner that the next round must confirm
     alone = False  # the model is a first-round trial that nothing confirmed or refused (``Trial.last``)
     by_pair: set[str] = set()  # parts a pair step accepted (not asked again: ``voe.gap.reselect``)
+    accepted: list[tuple[tuple[str, ...], FitResult]] = []  # (keys, model) of each model accepted (``SearchResult``)
     q = lower_q or 0.05
     for r in range(max_effects):
         if len(keys) >= max_effects:  # a pair step added two parts
@@ -153,6 +161,7 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
                 before_sse = current.window_sse
                 keys += list(step.pair.keys)
                 by_pair |= set(step.pair.keys)
+                accepted.append((tuple(keys), as_sum(current)))
                 if on_model is not None:
                     on_model(as_sum(current))
                 if not goes_on:
@@ -209,6 +218,7 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
             accept_all([(fitter, results[winner], gains[winner], before_sse)], n_jobs)[0]
         before_sse = current.window_sse
         keys.append(winner)
+        accepted.append((tuple(keys), as_sum(current)))
         if on_model is not None:
             on_model(as_sum(current))
         if not pool:
@@ -216,10 +226,12 @@ def greedy(fitter: FoldedFitter, candidates: dict[str, Effect], null: NullSearch
     changed = False
     if lower_q:  # each part asked again with the others in (``voe.gap.reselect``)
         current, keys, changed = reselect(fitter, current, keys, rounds, q, by_pair, n_jobs)
+        if changed:
+            accepted.append((tuple(keys), as_sum(current)))
         if changed and on_model is not None:
             on_model(as_sum(current))
     return SearchResult(as_sum(current) if current is not None else None, tuple(rounds), tuple(keys), nominal_sse,
-                        alone and not changed)
+                        alone and not changed, tuple(accepted))
 
 
 def _unconfirmed(fitter: FoldedFitter, trial: Trial, rounds: list[Round], current: FitResult, keys: list[str],
