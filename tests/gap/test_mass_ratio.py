@@ -85,3 +85,39 @@ def test_a_round_does_not_fit_the_mass_that_would_cover_every_body(no_stand_ins)
     fitter.fitted = []
     search.fit_rounds([search.RoundTask(fitter, {**pool, "mass[b0]": Mass(bodies=("b0",))}, None, np.ones(W))])
     assert sorted(fitter.fitted) == ["mass", "mass", "rolling_resistance"]
+
+
+def test_neither_a_later_round_nor_the_reselection_puts_a_mass_on_every_body(no_stand_ins, monkeypatch):
+    """Round 1 names ``rolling_resistance``, round 2 ``mass[b0]``; a made-up table makes both masses
+    together far better (as a re-spotted first mass would be), so without the rule round 3 adds
+    ``mass[b1]`` and the re-selection would swap the rolling resistance for it. With it, neither."""
+    from voe.gap import reselect
+    from voe.gap.greedy import greedy
+
+    from .test_reselect import _TableFitter
+
+    class _ByBody(_TableFitter):  # keyed by repr, which names the body: mass[b0] and mass[b1] differ
+        def _result(self, parts: tuple):
+            from voe.gap.fit import FitResult
+
+            eff = EffectSum(parts)
+            return FitResult(eff, np.zeros(eff.n_params), 0.0, 0.0, self.table["+".join(sorted(map(repr, parts)))])
+
+    w = np.linspace(0.8, 1.2, 20)  # (W,)
+    table = {"": w, "rolling_resistance": 0.3 * w, "mass[b0]": 0.4 * w, "mass[b1]": 0.45 * w,
+             "mass[b0]+rolling_resistance": 0.15 * w, "mass[b1]+rolling_resistance": 0.2 * w,
+             "mass[b0]+mass[b1]": 0.01 * w, "mass[b0]+mass[b1]+rolling_resistance": 0.01 * w}
+
+    def run():
+        fitter = _ByBody(table)
+        fitter.shooter.scene = _scene(2)
+        cands = {"rolling_resistance": EFFECTS.get("rolling_resistance")(), "mass[b0]": Mass(bodies=("b0",)),
+                 "mass[b1]": Mass(bodies=("b1",))}
+        return greedy(fitter, cands, lambda r: 0.1, 3, set(), 1e-3)
+
+    assert run().keys == ("rolling_resistance", "mass[b0]")
+    with monkeypatch.context() as m:  # the rounds' rule alone: the re-selection swaps the rolling resistance out
+        m.setattr(reselect, "not_offered", lambda fitter, parts: False)
+        assert run().keys == ("mass[b1]", "mass[b0]")
+    monkeypatch.setattr(search, "not_offered", lambda fitter, parts: False)  # the re-selection's alone: round 3
+    assert run().keys == ("rolling_resistance", "mass[b0]", "mass[b1]")

@@ -13,8 +13,9 @@ round 1 accepted ``mass[box]`` 0.536 (its interval 0.386-0.642 holds the truth),
 whose ratio (0.417) is the one thing the recordings fix.
 
 So a round does not offer a candidate whose model would put a mass on every body while all its
-parts are mass-proportional (``one_too_many``), in the data's search and the null's alike. A
-mass on every body but one still says everything the recordings can: the ratios.
+parts are mass-proportional (``one_too_many``), in the data's search and the null's alike
+(``voe.gap.search.fit_rounds``), nor does the re-selection ask such a swap (``voe.gap.reselect``).
+A mass on every body but one still says everything the recordings can: the ratios.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ import numpy as np
 
 from voe.gap.effects.base import Effect
 from voe.gap.effects.mass import Mass
+from voe.gap.folds import FoldedFitter
 from voe.sim.scenefile import SceneSpec
 
 
@@ -34,3 +36,8 @@ def one_too_many(scene: SceneSpec, parts: tuple[Effect, ...]) -> bool:
         return False
     covered = np.logical_or.reduce([e.mask(scene) for e in masses])  # (B,)
     return bool(np.all(covered))
+
+
+def not_offered(fitter: FoldedFitter, parts: tuple[Effect, ...]) -> bool:
+    """``one_too_many`` on the scene of ``fitter``'s shooter (read only when a mass is among ``parts``)."""
+    return any(isinstance(e, Mass) for e in parts) and one_too_many(fitter.shooter.scene, parts)

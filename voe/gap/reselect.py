@@ -42,6 +42,7 @@ import numpy as np
 from voe.gap.effects.base import EffectSum
 from voe.gap.fit import FitResult
 from voe.gap.folds import FoldedFitter, without
+from voe.gap.mass_ratio import not_offered
 from voe.gap.search import Round, counted_map, gain_lower_bound, window_gain
 
 
@@ -73,11 +74,14 @@ def swapped(fitter: FoldedFitter, model: FitResult, k: int, cand: FitResult) -> 
                    fold_params=tuple(moved(p) for p in res.fold_params))
 
 
-def _alternatives(rnd: Round, keys: list[str]) -> list[str]:
-    """The round's candidates asked in its winner's place: those that passed alone, or whose fit
-    lost as much (see the module), best first."""
+def _alternatives(rnd: Round, keys: list[str], fitter: FoldedFitter, model: FitResult, k: int) -> list[str]:
+    """The round's candidates asked in place ``k`` (its winner's) of ``model``: those that passed
+    alone, or whose fit lost as much (see the module), best first; not one that would put a mass on
+    every body (``voe.gap.mass_ratio``)."""
+    rest = tuple(e for j, e in enumerate(model.effect.parts) if j != k)
     return sorted((c for c, g in rnd.gains.items()
-                   if c not in keys and c in rnd.results and np.isfinite(g) and abs(g) > rnd.threshold),
+                   if c not in keys and c in rnd.results and np.isfinite(g) and abs(g) > rnd.threshold
+                   and not not_offered(fitter, rest + rnd.results[c].effect.parts[-1:])),
                   key=lambda c: -rnd.gains[c])
 
 
@@ -106,10 +110,11 @@ def reselect(fitter: FoldedFitter, model: FitResult | None, keys: list[str], rou
     swaps: dict[tuple[int, str], FitResult] = {}
     for k, at in parts:
         key, rnd = keys[k], rounds[at]
-        alts = _alternatives(rnd, keys)
+        alts = _alternatives(rnd, keys, fitter, model, k)
         if any((k, c) not in swaps for c in alts):  # not yet asked against this model: this part's
             swaps = _swaps(fitter, model, [(j, rounds[a], c) for j, a in parts if j >= k  # and every later part's
-                                           for c in _alternatives(rounds[a], keys)], n_jobs)  # swaps at once
+                                           for c in _alternatives(rounds[a], keys, fitter, model, j)],
+                           n_jobs)  # swaps at once
         best: tuple[float, float, str, FitResult] | None = None
         for c in alts:
             res = swaps[k, c]

@@ -28,10 +28,9 @@ import numpy as np
 
 from voe.gap.context import frame_labels
 from voe.gap.effects.base import Effect
-from voe.gap.effects.mass import Mass
 from voe.gap.fit import FitResult
 from voe.gap.folds import FoldedFitter
-from voe.gap.mass_ratio import one_too_many
+from voe.gap.mass_ratio import not_offered
 from voe.gap.stand_in import is_stand_in, own_moved
 from voe.parallel import parallel_map
 
@@ -196,8 +195,7 @@ def candidate_gains(fitter: FoldedFitter, candidates: dict[str, Effect], current
 def _one_too_many(task: RoundTask, key: str) -> bool:
     """Whether candidate ``key`` on top of the task's current model would put a mass on every body
     with nothing that sees absolute masses (``voe.gap.mass_ratio``): not offered."""
-    parts = (task.current.effect.parts if task.current is not None else ()) + task.pool[key].parts
-    return any(isinstance(e, Mass) for e in parts) and one_too_many(task.fitter.shooter.scene, parts)
+    return not_offered(task.fitter, (task.current.effect.parts if task.current is not None else ()) + task.pool[key].parts)
 
 
 def _fit_one(item: tuple[int, str], tasks: list[RoundTask]) -> tuple[FitResult, int, float]:
