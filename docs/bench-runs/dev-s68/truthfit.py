@@ -13,11 +13,11 @@ import time
 import numpy as np
 
 from voe.gap.bench import make_case
+from voe.gap.effects import EFFECTS
 from voe.gap.effects.base import EffectSum
 from voe.gap.finder import ALL_EFFECTS
 from voe.gap.search import window_gain
 from voe.gap.stages import GapConfig, _folded, prepare
-from voe.gap.effects import EFFECTS
 
 s, truth, kind, cands = int(sys.argv[1]), sys.argv[2], sys.argv[3], sys.argv[4].split(",")
 t0 = time.time()
